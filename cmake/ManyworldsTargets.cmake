@@ -1,0 +1,65 @@
+# Helpers shared by every layer's CMakeLists.txt.
+
+# Warnings and code generation flags for a project target.
+function(manyworlds_compile_options target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra)
+  # GCC 12 reports a false -Wrestrict inside std::string concatenation at -O3
+  # (GCC bug 105651); nothing in our code is involved.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)
+    target_compile_options(${target} PRIVATE -Wno-restrict)
+  endif()
+  # sqrt/exp without errno lets the compiler vectorise numeric loops.
+  target_compile_options(${target} PRIVATE -fno-math-errno)
+  if(MANYWORLDS_NATIVE)
+    target_compile_options(${target} PRIVATE -march=native)
+  endif()
+endfunction()
+
+# manyworlds_library(<layer> SOURCES ... [PUBLIC_DEPS ...] [PRIVATE_DEPS ...])
+# Creates target manyworlds_<layer> (alias manyworlds::<layer>), with the
+# include root src/, installs it and its headers.
+function(manyworlds_library layer)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  set(target manyworlds_${layer})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(manyworlds::${layer} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${layer})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/src>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  manyworlds_compile_options(${target})
+  install(TARGETS ${target} EXPORT manyworldsTargets
+    ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+    LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR})
+  install(DIRECTORY ${CMAKE_CURRENT_SOURCE_DIR}/
+    DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/manyworlds/${layer}
+    FILES_MATCHING PATTERN "*.h")
+endfunction()
+
+# The non-test .cc files of the current directory and the given subfolders.
+function(manyworlds_glob_sources out)
+  set(patterns ${CMAKE_CURRENT_SOURCE_DIR}/*.cc)
+  foreach(sub IN LISTS ARGN)
+    list(APPEND patterns ${CMAKE_CURRENT_SOURCE_DIR}/${sub}/*.cc)
+  endforeach()
+  file(GLOB files CONFIGURE_DEPENDS ${patterns})
+  list(FILTER files EXCLUDE REGEX "_test\\.cc$")
+  set(${out} ${files} PARENT_SCOPE)
+endfunction()
+
+# manyworlds_tests(<dir> LIBS ...): one GoogleTest executable per *_test.cc.
+function(manyworlds_tests)
+  cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
+  file(GLOB tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc)
+  foreach(file IN LISTS tests)
+    get_filename_component(name ${file} NAME_WE)
+    get_filename_component(area ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+    set(target ${area}_${name})
+    add_executable(${target} ${file})
+    target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+    manyworlds_compile_options(${target})
+    gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
+      PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+  endforeach()
+endfunction()

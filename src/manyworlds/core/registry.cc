@@ -1,0 +1,197 @@
+#include "manyworlds/core/registry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds {
+namespace {
+
+// Converts `value` to the declared type; throws ConfigError on failure.
+nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
+                      const nlohmann::json& value) {
+  auto fail = [&](const std::string& why) -> nlohmann::json {
+    throw ConfigError("env '" + std::string(env_id) + "': option '" + spec.name + "' " + why +
+                      " (expected " + OptionTypeName(spec.type) + "; " + spec.doc + ")");
+  };
+  if (value.is_string() && spec.type != OptionType::kString) {
+    const std::string text = value.get<std::string>();
+    auto parsed = nlohmann::json::parse(text, nullptr, false);
+    if (text == "True" || text == "true") parsed = true;
+    if (text == "False" || text == "false") parsed = false;
+    if (parsed.is_discarded() || parsed.is_string()) return fail("has value '" + text + "'");
+    return Coerce(env_id, spec, parsed);
+  }
+  switch (spec.type) {
+    case OptionType::kInt:
+      if (value.is_number_integer()) return value.get<int64_t>();
+      if (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
+          std::abs(value.get<double>()) < 9e15) {
+        return static_cast<int64_t>(value.get<double>());
+      }
+      return fail("has value " + value.dump());
+    case OptionType::kFloat:
+      if (value.is_number() && std::isfinite(value.get<double>())) return value.get<double>();
+      return fail("has value " + value.dump());
+    case OptionType::kBool:
+      if (value.is_boolean()) return value.get<bool>();
+      return fail("has value " + value.dump());
+    case OptionType::kString: {
+      if (!value.is_string()) return fail("has value " + value.dump());
+      const auto text = value.get<std::string>();
+      if (!spec.choices.empty() &&
+          std::find(spec.choices.begin(), spec.choices.end(), text) == spec.choices.end()) {
+        std::string allowed;
+        for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + c;
+        return fail("has value '" + text + "', allowed: " + allowed);
+      }
+      return text;
+    }
+  }
+  return fail("has an unsupported type");
+}
+
+}  // namespace
+
+std::string OptionTypeName(OptionType type) {
+  switch (type) {
+    case OptionType::kInt:
+      return "int";
+    case OptionType::kFloat:
+      return "float";
+    case OptionType::kBool:
+      return "bool";
+    case OptionType::kString:
+      return "string";
+  }
+  return "?";
+}
+
+size_t EditDistance(std::string_view a, std::string_view b) {
+  std::vector<size_t> row(b.size() + 1);
+  std::iota(row.begin(), row.end(), 0);
+  for (size_t i = 1; i <= a.size(); ++i) {
+    size_t diagonal = row[0];
+    row[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j) {
+      const size_t up = row[j];
+      const size_t cost = std::tolower(a[i - 1]) == std::tolower(b[j - 1]) ? 0 : 1;
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + cost});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string SuggestNearest(std::string_view name, const std::vector<std::string>& candidates) {
+  std::vector<std::pair<size_t, std::string>> scored;
+  for (const auto& c : candidates) {
+    const size_t d = EditDistance(name, c);
+    const bool contains = !name.empty() && (c.find(name) != std::string::npos ||
+                                            name.find(c) != std::string_view::npos);
+    // Close enough to be a typo, or one name contains the other.
+    if (d <= std::max<size_t>(2, name.size() / 3) || contains) scored.emplace_back(d, c);
+  }
+  if (scored.empty()) return "";
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& x, const auto& y) { return x.first < y.first; });
+  std::string out = " (did you mean '" + scored[0].second + "'";
+  for (size_t i = 1; i < std::min<size_t>(scored.size(), 3); ++i) {
+    out += " or '" + scored[i].second + "'";
+  }
+  return out + "?)";
+}
+
+const nlohmann::json& Options::Get(std::string_view name) const {
+  auto it = values_.find(name);
+  if (it == values_.end()) {
+    throw ConfigError("env '" + env_id_ + "' has no option '" + std::string(name) + "'");
+  }
+  return *it;
+}
+
+int64_t Options::Int(std::string_view name) const { return Get(name).get<int64_t>(); }
+double Options::Float(std::string_view name) const { return Get(name).get<double>(); }
+bool Options::Bool(std::string_view name) const { return Get(name).get<bool>(); }
+std::string Options::String(std::string_view name) const {
+  return Get(name).get<std::string>();
+}
+
+void Registry::Add(EnvRegistration registration) {
+  if (Contains(registration.id)) {
+    throw ConfigError("env id '" + registration.id + "' is registered twice");
+  }
+  for (const auto& option : registration.options) {
+    if (option.name == kMaxEpisodeStepsOption) {
+      throw ConfigError("env '" + registration.id + "' declares the reserved option '" +
+                        option.name + "'");
+    }
+  }
+  registration.options.push_back(
+      {std::string(kMaxEpisodeStepsOption), OptionType::kInt, -1,
+       "truncate episodes after this many steps; -1 keeps the env's default, 0 removes the limit"});
+  entries_.push_back(std::move(registration));
+}
+
+bool Registry::Contains(std::string_view id) const {
+  return std::any_of(entries_.begin(), entries_.end(),
+                     [&](const EnvRegistration& r) { return r.id == id; });
+}
+
+const EnvRegistration& Registry::Find(std::string_view id) const {
+  for (const auto& r : entries_) {
+    if (r.id == id) return r;
+  }
+  throw ConfigError("unknown env id '" + std::string(id) + "'" + SuggestNearest(id, Ids()) +
+                    "; run `manyworlds envs` to list all " + std::to_string(entries_.size()) +
+                    " ids");
+}
+
+std::vector<std::string> Registry::Ids() const {
+  std::vector<std::string> ids;
+  for (const auto& r : entries_) ids.push_back(r.id);
+  return ids;
+}
+
+Options Registry::ResolveOptions(std::string_view id, const nlohmann::json& given) const {
+  const EnvRegistration& registration = Find(id);
+  if (!given.is_null() && !given.is_object()) {
+    throw ConfigError("env '" + registration.id + "': options must be a key/value object, got " +
+                      given.dump());
+  }
+  std::vector<std::string> names;
+  for (const auto& o : registration.options) names.push_back(o.name);
+  nlohmann::json resolved = nlohmann::json::object();
+  for (const auto& o : registration.options) resolved[o.name] = o.default_value;
+  if (given.is_object()) {
+    for (const auto& [key, value] : given.items()) {
+      auto spec = std::find_if(registration.options.begin(), registration.options.end(),
+                               [&](const OptionSpec& o) { return o.name == key; });
+      if (spec == registration.options.end()) {
+        std::string all;
+        for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
+        throw ConfigError("env '" + registration.id + "' has no option '" + key + "'" +
+                          SuggestNearest(key, names) + "; its options are: " + all);
+      }
+      resolved[key] = Coerce(registration.id, *spec, value);
+    }
+  }
+  return Options(registration.id, std::move(resolved));
+}
+
+std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& options) const {
+  const EnvRegistration& registration = Find(id);
+  Options resolved = ResolveOptions(id, options);
+  std::unique_ptr<Env> env = registration.factory(resolved);
+  const int64_t limit = resolved.Int(kMaxEpisodeStepsOption);
+  if (limit < -1) {
+    throw ConfigError("env '" + registration.id + "': option 'max_episode_steps' must be >= -1, got " +
+                      std::to_string(limit));
+  }
+  if (limit >= 0) env->SetMaxEpisodeSteps(limit);
+  return env;
+}
+
+}  // namespace manyworlds

@@ -1,0 +1,94 @@
+// The environment registry: make("id", options).
+//
+// Registration is explicit: each suite has a Register<Suite>(Registry&)
+// function, and manyworlds/envs/all.h assembles the default registry. Options
+// are typed and documented; unknown ids and unknown options are errors that
+// suggest the nearest valid names.
+#ifndef MANYWORLDS_CORE_REGISTRY_H_
+#define MANYWORLDS_CORE_REGISTRY_H_
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/core/env.h"
+
+namespace manyworlds {
+
+enum class OptionType { kInt, kFloat, kBool, kString };
+
+struct OptionSpec {
+  std::string name;
+  OptionType type = OptionType::kInt;
+  nlohmann::json default_value;
+  std::string doc;
+  // kString only: the allowed values (empty: any string).
+  std::vector<std::string> choices = {};
+};
+
+// Resolved option values: every declared option present with the right type.
+class Options {
+ public:
+  Options(std::string env_id, nlohmann::json values)
+      : env_id_(std::move(env_id)), values_(std::move(values)) {}
+
+  int64_t Int(std::string_view name) const;
+  double Float(std::string_view name) const;
+  bool Bool(std::string_view name) const;
+  std::string String(std::string_view name) const;
+  const nlohmann::json& values() const { return values_; }
+
+ private:
+  const nlohmann::json& Get(std::string_view name) const;
+
+  std::string env_id_;
+  nlohmann::json values_;
+};
+
+using EnvFactory = std::function<std::unique_ptr<Env>(const Options&)>;
+
+struct EnvRegistration {
+  std::string id;
+  std::string family;  // e.g. "classic", "manipulation", "benchmark"
+  std::string description;
+  std::vector<OptionSpec> options;
+  EnvFactory factory;
+};
+
+class Registry {
+ public:
+  // Option every registration gets: override the env's episode limit.
+  static constexpr std::string_view kMaxEpisodeStepsOption = "max_episode_steps";
+
+  // Throws ConfigError on a duplicate id.
+  void Add(EnvRegistration registration);
+  bool Contains(std::string_view id) const;
+  // Throws ConfigError naming the nearest ids.
+  const EnvRegistration& Find(std::string_view id) const;
+  const std::vector<EnvRegistration>& entries() const { return entries_; }
+  std::vector<std::string> Ids() const;
+
+  // Checks names and types, fills defaults. String values are converted to
+  // the declared type, so "n_arms=5" from a command line works.
+  Options ResolveOptions(std::string_view id, const nlohmann::json& given) const;
+  std::unique_ptr<Env> Make(std::string_view id,
+                            const nlohmann::json& options = nlohmann::json::object()) const;
+
+ private:
+  std::vector<EnvRegistration> entries_;
+};
+
+// Edit distance, for suggestions.
+size_t EditDistance(std::string_view a, std::string_view b);
+// " (did you mean 'x' or 'y'?)" for the closest candidates, or "" if none is
+// close.
+std::string SuggestNearest(std::string_view name, const std::vector<std::string>& candidates);
+std::string OptionTypeName(OptionType type);
+
+}  // namespace manyworlds
+
+#endif  // MANYWORLDS_CORE_REGISTRY_H_
