@@ -1,0 +1,71 @@
+// Policies that drive an env from its observation, and the rollout loop.
+#ifndef MANYWORLDS_CORE_POLICY_H_
+#define MANYWORLDS_CORE_POLICY_H_
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/core/env.h"
+#include "manyworlds/core/rng.h"
+
+namespace manyworlds {
+
+class Policy {
+ public:
+  virtual ~Policy() = default;
+  // Called at the start of every episode.
+  virtual void BeginEpisode() {}
+  // Writes an action (action_space.flat_size() floats) for the observation.
+  virtual void Act(std::span<const float> env_obs, std::span<const float> task_obs,
+                   std::span<float> action) = 0;
+};
+
+// Uniform samples from the action space, from its own seeded generator.
+class RandomPolicy : public Policy {
+ public:
+  RandomPolicy(Space action_space, uint64_t seed) : space_(std::move(action_space)), rng_(seed) {}
+  void Act(std::span<const float>, std::span<const float>, std::span<float> action) override {
+    space_.Sample(rng_, action);
+  }
+
+ private:
+  Space space_;
+  Rng rng_;
+};
+
+struct EpisodeStats {
+  double episode_return = 0.0;
+  int64_t length = 0;
+  // 1 if the env reported info "success" > 0 at any step; -1 if the env
+  // does not report success.
+  int success = -1;
+  bool terminated = false;
+  bool truncated = false;
+};
+
+struct RolloutSummary {
+  std::vector<EpisodeStats> episodes;
+  double mean_return = 0.0;
+  double mean_length = 0.0;
+  // Fraction of successful episodes; negative if the env reports no success.
+  double success_rate = -1.0;
+
+  // {"episodes": [{"return", "length", "success"}], "mean_return",
+  //  "success_rate"} (success / success_rate are null without a success field).
+  nlohmann::json ToJson() const;
+};
+
+// Runs `episodes` episodes: Reset, then Step with the policy's actions until
+// terminated or truncated. Episodes without a time limit are cut after
+// `max_steps_per_episode` steps (counted as truncated).
+RolloutSummary Rollout(Env& env, Policy& policy, int episodes,
+                       int64_t max_steps_per_episode = 100000);
+
+}  // namespace manyworlds
+
+#endif  // MANYWORLDS_CORE_POLICY_H_
