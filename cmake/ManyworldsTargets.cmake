@@ -58,6 +58,8 @@ function(manyworlds_tests)
     set(target ${area}_${name})
     add_executable(${target} ${file})
     target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
+    # Test helpers are included as "tests/<area>/<file>.h".
+    target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR})
     manyworlds_compile_options(${target})
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
       PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
