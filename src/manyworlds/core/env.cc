@@ -55,11 +55,15 @@ void Env::SetTaskState(const TaskState& state) {
 }
 
 void Env::SetTaskObs(std::span<const float> task_obs) {
-  if (task_obs.size() != task_obs_.size()) {
+  const size_t expected = static_cast<size_t>(spec_.task_obs_space.flat_size());
+  if (task_obs.size() != expected) {
     throw Error("env '" + spec_.id + "': task observation has " + std::to_string(task_obs.size()) +
                 " values, its space " + spec_.task_obs_space.ToString() + " has " +
-                std::to_string(task_obs_.size()));
+                std::to_string(expected));
   }
+  // A wrapper may have changed the task observation space after Env's
+  // constructor sized the buffer; this resizes at most once.
+  task_obs_.resize(expected);
   std::copy(task_obs.begin(), task_obs.end(), task_obs_.begin());
 }
 
@@ -127,6 +131,9 @@ void Env::ValidateAction(std::span<const float> action) {
                                "; actions must be finite (action space " + space.ToString() + ")");
     }
   }
+  // Covers a wrapper that changed the action space after Env's constructor
+  // sized the buffer (no allocation once sized).
+  clipped_action_.resize(action.size());
   if (space.is_discrete()) {
     if (!space.Contains(action)) {
       throw InvalidActionError("env '" + spec_.id + "': action " + std::to_string(action[0]) +

@@ -45,6 +45,10 @@ void Wrapper::DoSetTaskState(const TaskState& state) {
 
 void Wrapper::DoReset(const ObsView& out) {
   inner_->Reset(ObsView{out.env_obs, inner_task_obs_});
+  // The inner env may switch tasks in its Reset (SampleRandomTask does); keep
+  // the mirrored task observation current. Wrappers with their own task
+  // observation space are left alone.
+  if (spec().task_obs_space == inner_->spec().task_obs_space) SetTaskObs(inner_task_obs_);
 }
 
 void Wrapper::DoStep(std::span<const float> action, const StepView& out) {

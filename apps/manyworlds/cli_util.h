@@ -1,0 +1,92 @@
+// Helpers shared by the subcommands: option parsing, tables, number
+// formatting, a progress bar and the seeded random-policy rollout.
+#ifndef APPS_MANYWORLDS_CLI_UTIL_H_
+#define APPS_MANYWORLDS_CLI_UTIL_H_
+
+#include <chrono>
+#include <cstdint>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/core/env.h"
+#include "manyworlds/core/policy.h"
+
+namespace manyworlds::cli {
+
+// {"key": "value", ...} from "key=value" strings (the registry converts the
+// strings to each option's type). Throws ConfigError on a malformed or
+// repeated key.
+nlohmann::json ParseEnvOptions(const std::vector<std::string>& pairs);
+
+// Accepts integers >= 1 ("--episodes: must be an integer >= 1, got 0").
+CLI::Validator AtLeastOne();
+// Accepts integers in [0, 2^64) (CLI11 would wrap "-1" to 2^64 - 1).
+CLI::Validator Unsigned();
+
+// The policies the CLI can build, and the factory. Throws ConfigError for an
+// unknown name, listing the allowed ones.
+const std::vector<std::string>& PolicyNames();
+void CheckPolicyName(std::string_view name);
+std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed);
+
+// The CLI's seeding protocol: env.Seed(seed), env.SeedTask(task_seed), one
+// ResetTaskState, then `episodes` episodes with the named policy seeded from
+// MixSeed(seed, kPolicySeedStream). Same arguments, same summary.
+inline constexpr uint64_t kPolicySeedStream = 0x706f6c696379;  // "policy"
+RolloutSummary SeededRollout(Env& env, std::string_view policy, uint64_t seed, uint64_t task_seed,
+                             int episodes);
+
+// "12.35" with `digits` decimals.
+std::string Fixed(double value, int digits);
+// "1.23M", "45.6k", "789": three significant digits.
+std::string Human(double value);
+// "0.40", or "-" for a negative rate (env reports no success).
+std::string SuccessRate(double rate);
+// Prints "<text>\n" on stdout (for --json output).
+void PrintJson(const nlohmann::json& json);
+
+// A plain text table with aligned columns.
+class Table {
+ public:
+  // Columns whose header starts with '>' are right-aligned (the '>' is dropped).
+  explicit Table(std::vector<std::string> headers);
+  void AddRow(std::vector<std::string> cells);
+  void Print(std::ostream& out) const;
+
+ private:
+  std::vector<std::string> headers_;
+  std::vector<bool> right_;
+  std::vector<std::vector<std::string>> rows_;
+};
+
+// "label 3/7 envs [#####....] 1.2 envs/s ETA 4s" on stderr, redrawn in place
+// on a terminal (at most 10 times a second); with force on a non-terminal,
+// one line per second. Silent otherwise. Clears itself when destroyed.
+class ProgressBar {
+ public:
+  ProgressBar(std::string label, int64_t total, std::string unit, bool force);
+  ~ProgressBar();
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
+
+  void Advance(int64_t count = 1);
+
+ private:
+  void Draw(bool final);
+
+  using Clock = std::chrono::steady_clock;
+  std::string label_, unit_;
+  int64_t total_, done_ = 0;
+  bool enabled_, tty_;
+  Clock::time_point start_, last_draw_;
+};
+
+}  // namespace manyworlds::cli
+
+#endif  // APPS_MANYWORLDS_CLI_UTIL_H_

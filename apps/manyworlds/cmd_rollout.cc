@@ -1,0 +1,65 @@
+// manyworlds rollout --env ID: seeded episodes with a policy, per-episode
+// table and summary (or RolloutSummary::ToJson with --json).
+#include <iostream>
+
+#include "apps/manyworlds/cli_util.h"
+#include "apps/manyworlds/commands.h"
+#include "manyworlds/envs/all.h"
+
+namespace manyworlds::cli {
+namespace {
+
+struct RolloutArgs {
+  std::string env;
+  std::string policy = "random";
+  int episodes = 10;
+  uint64_t seed = 0;
+  uint64_t task_seed = 0;
+  std::vector<std::string> options;
+  bool json = false;
+};
+
+void RunRollout(const RolloutArgs& args) {
+  CheckPolicyName(args.policy);
+  auto env = Make(args.env, ParseEnvOptions(args.options));
+  const RolloutSummary summary =
+      SeededRollout(*env, args.policy, args.seed, args.task_seed, args.episodes);
+  if (args.json) {
+    PrintJson(summary.ToJson());
+    return;
+  }
+  Table table({">episode", ">return", ">length", "success", "end"});
+  for (size_t i = 0; i < summary.episodes.size(); ++i) {
+    const EpisodeStats& e = summary.episodes[i];
+    table.AddRow({std::to_string(i), Fixed(e.episode_return, 3), std::to_string(e.length),
+                  e.success < 0 ? "-" : (e.success ? "yes" : "no"),
+                  e.terminated ? "terminated" : "truncated"});
+  }
+  table.Print(std::cout);
+  std::cout << args.env << ": " << summary.episodes.size() << " episodes, mean return "
+            << Fixed(summary.mean_return, 3) << ", mean length " << Fixed(summary.mean_length, 1)
+            << ", success rate " << SuccessRate(summary.success_rate) << "\n";
+}
+
+}  // namespace
+
+void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
+  auto args = std::make_shared<RolloutArgs>();
+  CLI::App* cmd = app.add_subcommand("rollout", "Run seeded episodes of a policy in one env");
+  cmd->add_option("--env", args->env, "env id (see `manyworlds envs`)")->required();
+  cmd->add_option("--policy", args->policy, "policy: random")->capture_default_str();
+  cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")
+      ->capture_default_str()
+      ->check(Unsigned());
+  cmd->add_option("--task-seed", args->task_seed, "task seed (which task is sampled)")
+      ->capture_default_str()
+      ->check(Unsigned());
+  cmd->add_option("--option", args->options, "env option key=value (repeatable)");
+  cmd->add_flag("--json", args->json, "print the summary as JSON");
+  cmd->callback([args] { RunRollout(*args); });
+}
+
+}  // namespace manyworlds::cli

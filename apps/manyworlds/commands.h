@@ -1,0 +1,27 @@
+// The subcommands of the `manyworlds` program, one .cc file each.
+//
+// Each Add*Command registers a CLI11 subcommand whose callback does the
+// work. Callbacks report bad input by throwing ConfigError (exit code 2) and
+// runtime failures by throwing Error (exit code 1); a command that ran but
+// found problems (check-env) sets context.exit_code.
+#ifndef APPS_MANYWORLDS_COMMANDS_H_
+#define APPS_MANYWORLDS_COMMANDS_H_
+
+#include <CLI/CLI.hpp>
+
+namespace manyworlds::cli {
+
+struct CommandContext {
+  int exit_code = 0;
+  bool progress = false;  // --progress: show progress even if stderr is not a TTY
+};
+
+void AddEnvsCommand(CLI::App& app, CommandContext& context);
+void AddRolloutCommand(CLI::App& app, CommandContext& context);
+void AddCheckEnvCommand(CLI::App& app, CommandContext& context);
+void AddBenchCommand(CLI::App& app, CommandContext& context);
+void AddDemoCommand(CLI::App& app, CommandContext& context);
+
+}  // namespace manyworlds::cli
+
+#endif  // APPS_MANYWORLDS_COMMANDS_H_

@@ -1,0 +1,56 @@
+// manyworlds: command-line access to the environments. See README.md.
+#include <algorithm>
+#include <functional>
+#include <iostream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "apps/manyworlds/commands.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/registry.h"
+
+int main(int argc, char** argv) {
+  namespace cli = manyworlds::cli;
+  CLI::App app{"manyworlds: multi-task and meta-RL environments in C++", "manyworlds"};
+  app.require_subcommand(1);
+  app.footer("Run `manyworlds <command> --help` for the options of a command.");
+  cli::CommandContext context;
+  app.add_flag("--progress", context.progress,
+               "show progress on stderr even when stderr is not a terminal");
+  cli::AddEnvsCommand(app, context);
+  cli::AddRolloutCommand(app, context);
+  cli::AddCheckEnvCommand(app, context);
+  cli::AddBenchCommand(app, context);
+  cli::AddDemoCommand(app, context);
+
+  // every failure is one line on stderr; 2 = bad usage or config, 1 = runtime
+  try {
+    // CLI11 would only say "a subcommand is required" for a mistyped command
+    const std::function<bool(const CLI::App*)> any = [](const CLI::App*) { return true; };
+    std::vector<std::string> names;
+    for (const CLI::App* sub : std::as_const(app).get_subcommands(any)) {
+      names.push_back(sub->get_name());
+    }
+    if (argc > 1 && argv[1][0] != '-' &&
+        std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      throw manyworlds::ConfigError("unknown command '" + std::string(argv[1]) + "'" +
+                                    manyworlds::SuggestNearest(argv[1], names) +
+                                    "; run `manyworlds --help` for the list");
+    }
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    std::cerr << "error: " << e.what() << " (see --help)\n";
+    return 2;
+  } catch (const manyworlds::ConfigError& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+  return context.exit_code;
+}

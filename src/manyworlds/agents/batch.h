@@ -1,0 +1,30 @@
+// A batch of transitions for off-policy learners, as CPU tensors.
+#ifndef MANYWORLDS_AGENTS_BATCH_H_
+#define MANYWORLDS_AGENTS_BATCH_H_
+
+#include <cstdint>
+
+#include <torch/torch.h>
+
+namespace manyworlds::agents {
+
+struct Batch {
+  torch::Tensor obs;         // (B, obs_dim) float32; includes any task one-hot
+  torch::Tensor action;      // (B, action_dim) float32, in the policy's (-1, 1) range
+  torch::Tensor reward;      // (B) float32
+  torch::Tensor next_obs;    // (B, obs_dim) float32
+  // (B) float32 (or bool): 1 where the MDP terminated. A time-limit
+  // truncation is not done: the target still bootstraps from next_obs.
+  torch::Tensor done;
+  torch::Tensor task_index;  // (B) int64 in [0, num_tasks)
+
+  int64_t size() const { return obs.defined() ? obs.size(0) : 0; }
+};
+
+// Throws Error naming the field whose shape or dtype is wrong. Task indices
+// are range-checked (one reduction over B values).
+void ValidateBatch(const Batch& batch, int64_t obs_dim, int64_t action_dim, int64_t num_tasks);
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_BATCH_H_

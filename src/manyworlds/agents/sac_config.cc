@@ -1,0 +1,48 @@
+#include "manyworlds/agents/sac_config.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::agents {
+namespace {
+
+template <typename T>
+void Require(bool ok, const char* field, const char* allowed, T value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "SacConfig." << field << " must be " << allowed << ", got " << value;
+  throw ConfigError(msg.str());
+}
+
+bool Finite(double x) { return std::isfinite(x); }
+
+}  // namespace
+
+void SacConfig::Validate() const {
+  Require(hidden_dim > 0, "hidden_dim", "> 0", hidden_dim);
+  Require(num_layers >= 0, "num_layers", ">= 0", num_layers);
+  Require(Finite(actor_lr) && actor_lr > 0, "actor_lr", "finite and > 0", actor_lr);
+  Require(Finite(critic_lr) && critic_lr > 0, "critic_lr", "finite and > 0", critic_lr);
+  Require(Finite(alpha_lr) && alpha_lr >= 0, "alpha_lr", "finite and >= 0", alpha_lr);
+  Require(adam_beta1 >= 0 && adam_beta1 < 1, "adam_beta1", "in [0, 1)", adam_beta1);
+  Require(adam_beta2 >= 0 && adam_beta2 < 1, "adam_beta2", "in [0, 1)", adam_beta2);
+  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  Require(tau > 0 && tau <= 1, "tau", "in (0, 1]", tau);
+  Require(Finite(init_temperature) && init_temperature > 0, "init_temperature",
+          "finite and > 0", init_temperature);
+  Require(batch_size > 0, "batch_size", "> 0", batch_size);
+  if (target_entropy) {
+    Require(Finite(*target_entropy), "target_entropy", "finite", *target_entropy);
+  }
+  Require(Finite(log_std_min) && Finite(log_std_max) && log_std_min < log_std_max,
+          "log_std_min", "finite and < log_std_max", log_std_min);
+  Require(actor_update_freq >= 1, "actor_update_freq", ">= 1", actor_update_freq);
+  Require(critic_target_update_freq >= 1, "critic_target_update_freq", ">= 1",
+          critic_target_update_freq);
+  Require(!std::isnan(max_critic_loss), "max_critic_loss", "a number", max_critic_loss);
+}
+
+}  // namespace manyworlds::agents

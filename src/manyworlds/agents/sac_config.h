@@ -1,0 +1,45 @@
+// Configuration of (multi-task) SAC. Defaults are MTRL's Meta-World MT10
+// ones (mtenv-mtrl.md B5): 3 x 400 actor and critics, Adam 3e-4 with betas
+// (0.9, 0.999), discount 0.99, tau 0.005, initial temperature 1.0, batch 128
+// (MTRL's MT10 command uses 128 per task), target entropy -|A|, log-std in
+// [-20, 2], actor and target updated every step.
+#ifndef MANYWORLDS_AGENTS_SAC_CONFIG_H_
+#define MANYWORLDS_AGENTS_SAC_CONFIG_H_
+
+#include <cstdint>
+#include <optional>
+
+namespace manyworlds::agents {
+
+struct SacConfig {
+  int64_t hidden_dim = 400;
+  int64_t num_layers = 3;  // hidden layers of actor and critics
+  double actor_lr = 3e-4;
+  double critic_lr = 3e-4;
+  double alpha_lr = 3e-4;
+  double adam_beta1 = 0.9;
+  double adam_beta2 = 0.999;
+  double discount = 0.99;
+  double tau = 0.005;  // Polyak factor of the target critics
+  double init_temperature = 1.0;
+  int64_t batch_size = 128;  // read by the caller that samples batches
+  // Unset: -action_dim (MTRL / pytorch_sac).
+  std::optional<double> target_entropy;
+  // One temperature per task, chosen by Batch.task_index (MTRL's
+  // should_use_disentangled_alpha); otherwise one shared temperature.
+  bool disentangled_alpha = false;
+  double log_std_min = -20.0;
+  double log_std_max = 2.0;
+  int64_t actor_update_freq = 1;          // actor and alpha every k updates
+  int64_t critic_target_update_freq = 1;  // Polyak every k updates
+  // MTRL stops when the critic loss exceeds this (divergence); <= 0 disables.
+  double max_critic_loss = 1e8;
+  uint64_t seed = 0;  // initialisation and action sampling
+
+  // Throws ConfigError naming the first bad field and its allowed range.
+  void Validate() const;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_SAC_CONFIG_H_

@@ -1,0 +1,39 @@
+#include "manyworlds/agents/sac_timing.h"
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "manyworlds/agents/sac.h"
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::agents {
+
+double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int num_tasks,
+                      int updates) {
+  if (updates < 1) throw ConfigError("TimeSacUpdates: updates must be >= 1");
+  SacLearner sac(config, obs_dim, action_dim, num_tasks);
+  at::Generator gen = at::detail::createCPUGenerator(config.seed + 1);
+  const int64_t b = config.batch_size;
+  // A few distinct batches, cycled, so that data generation is not timed.
+  constexpr int kBatches = 4;
+  std::vector<Batch> batches;
+  for (int i = 0; i < kBatches; ++i) {
+    Batch batch;
+    batch.obs = torch::randn({b, obs_dim}, gen, torch::kFloat32);
+    batch.action = torch::rand({b, action_dim}, gen, torch::kFloat32) * 2.0 - 1.0;
+    batch.reward = torch::randn({b}, gen, torch::kFloat32);
+    batch.next_obs = torch::randn({b, obs_dim}, gen, torch::kFloat32);
+    batch.done = (torch::rand({b}, gen, torch::kFloat32) < 0.01).to(torch::kFloat32);
+    batch.task_index = torch::randint(num_tasks, {b}, gen, torch::kInt64);
+    batches.push_back(std::move(batch));
+  }
+  constexpr int kWarmup = 3;
+  for (int i = 0; i < kWarmup; ++i) sac.Update(batches[i % kBatches]);
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < updates; ++i) sac.Update(batches[i % kBatches]);
+  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+  return updates / elapsed.count();
+}
+
+}  // namespace manyworlds::agents

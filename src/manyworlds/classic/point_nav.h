@@ -1,0 +1,63 @@
+// 2-D point navigation with a dense reward, the classic meta-RL toy
+// (MAML's point env, learn2learn's Particles2D): reach a hidden goal.
+//
+//   action:   Box(-0.1, 0.1, (2,)), added to the position (out-of-range
+//             actions are clipped by Env).
+//   env_obs:  the position, Box(-inf, inf, (2,)). Every episode starts at
+//             (0, 0).
+//   task_obs: the goal, Box(-r, r, (2,)) for r = goal_range (zeros if
+//             hide_task).
+//   reward:   -||position - goal|| after the move.
+//   end:      never terminates (terminating near the goal, as MAML does,
+//             hurts learning stability); truncated after `horizon` steps.
+//   info:     success = 1 when the distance is < 0.05; distance.
+//   task state params: {"goal": [2 numbers in [-r, r]]}, drawn U[-r, r]^2.
+//   options:  goal_range (float, 0.5, in (0, 100]), horizon (int, 100,
+//             >= 1), hide_task (bool, false).
+#ifndef MANYWORLDS_CLASSIC_POINT_NAV_H_
+#define MANYWORLDS_CLASSIC_POINT_NAV_H_
+
+#include <array>
+#include <cstdint>
+
+#include "manyworlds/core/env.h"
+
+namespace manyworlds::classic {
+
+class PointNavEnv : public Env {
+ public:
+  static constexpr const char* kId = "point-nav";
+  static constexpr float kMaxStep = 0.1f;
+  static constexpr double kSuccessDistance = 0.05;
+
+  struct Config {
+    double goal_range = 0.5;
+    int64_t horizon = 100;
+    bool hide_task = false;
+  };
+
+  // Throws ConfigError on an out-of-range option.
+  explicit PointNavEnv(const Config& config);
+
+  const std::array<double, 2>& goal() const { return goal_; }
+  const std::array<double, 2>& position() const { return position_; }
+
+ protected:
+  TaskState DoSampleTaskState(Rng& task_rng) override;
+  TaskState DoGetTaskState() const override;
+  void DoSetTaskState(const TaskState& state) override;
+  void DoReset(const ObsView& out) override;
+  void DoStep(std::span<const float> action, const StepView& out) override;
+
+ private:
+  static EnvSpec MakeSpec(const Config& config);
+
+  double goal_range_;
+  bool hide_task_;
+  std::array<double, 2> goal_{};
+  std::array<double, 2> position_{};
+};
+
+}  // namespace manyworlds::classic
+
+#endif  // MANYWORLDS_CLASSIC_POINT_NAV_H_

@@ -1,0 +1,261 @@
+#include "manyworlds/config/yaml.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <optional>
+#include <regex>
+#include <sstream>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds {
+namespace {
+
+std::string Where(std::string_view source, const YAML::Mark& mark) {
+  std::string out(source);
+  if (!mark.is_null()) {
+    out += ":" + std::to_string(mark.line + 1) + ":" + std::to_string(mark.column + 1);
+  }
+  return out;
+}
+
+[[noreturn]] void Fail(std::string_view source, const YAML::Mark& mark, const std::string& what) {
+  throw ConfigError(Where(source, mark) + ": " + what);
+}
+
+// yaml-cpp leaves typing to the caller; these follow the YAML 1.2 core schema.
+bool IsNull(const std::string& s) {
+  return s.empty() || s == "~" || s == "null" || s == "Null" || s == "NULL";
+}
+
+std::optional<bool> AsBool(const std::string& s) {
+  if (s == "true" || s == "True" || s == "TRUE") return true;
+  if (s == "false" || s == "False" || s == "FALSE") return false;
+  return std::nullopt;
+}
+
+bool LooksLikeInt(const std::string& s) {
+  static const std::regex kInt("[-+]?[0-9]+|0x[0-9a-fA-F]+|0o[0-7]+");
+  return std::regex_match(s, kInt);
+}
+
+std::optional<int64_t> AsInt(const std::string& s) {
+  static const std::regex kDecimal("[-+]?[0-9]+");
+  static const std::regex kHex("0x[0-9a-fA-F]+");
+  static const std::regex kOctal("0o[0-7]+");
+  int base = 10;
+  std::string_view digits = s;
+  if (std::regex_match(s, kHex)) {
+    base = 16;
+    digits.remove_prefix(2);
+  } else if (std::regex_match(s, kOctal)) {
+    base = 8;
+    digits.remove_prefix(2);
+  } else if (!std::regex_match(s, kDecimal)) {
+    return std::nullopt;
+  }
+  if (digits.front() == '+') digits.remove_prefix(1);
+  int64_t value = 0;
+  auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value, base);
+  if (ec != std::errc() || end != digits.data() + digits.size()) return std::nullopt;
+  return value;
+}
+
+std::optional<double> AsFloat(const std::string& s) {
+  static const std::regex kFloat("[-+]?(\\.[0-9]+|[0-9]+(\\.[0-9]*)?)([eE][-+]?[0-9]+)?");
+  static const std::regex kInf("[-+]?\\.(inf|Inf|INF)");
+  static const std::regex kNan("\\.(nan|NaN|NAN)");
+  if (std::regex_match(s, kInf)) {
+    return s[0] == '-' ? -std::numeric_limits<double>::infinity()
+                       : std::numeric_limits<double>::infinity();
+  }
+  if (std::regex_match(s, kNan)) return std::numeric_limits<double>::quiet_NaN();
+  if (!std::regex_match(s, kFloat)) return std::nullopt;
+  std::string_view text = s;
+  if (text.front() == '+') text.remove_prefix(1);
+  double value = 0.0;
+  auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size()) return std::nullopt;
+  return value;
+}
+
+// The JSON value a plain (unquoted, untagged) scalar stands for.
+nlohmann::json ResolvePlain(const std::string& s) {
+  if (IsNull(s)) return nullptr;
+  if (auto b = AsBool(s)) return *b;
+  if (auto i = AsInt(s)) return *i;
+  if (LooksLikeInt(s)) return s;  // out of range; ConvertScalar reports it
+  if (auto f = AsFloat(s)) return *f;
+  return s;
+}
+
+nlohmann::json ConvertScalar(const YAML::Node& node, std::string_view source) {
+  const std::string& text = node.Scalar();
+  const std::string& tag = node.Tag();
+  if (tag == "!" || tag == "tag:yaml.org,2002:str") return text;
+  if (tag == "?" || tag.empty()) {
+    // Integers out of range still look like integers: refuse rather than
+    // silently turning them into strings.
+    nlohmann::json value = ResolvePlain(text);
+    if (value.is_string() && LooksLikeInt(text)) {
+      Fail(source, node.Mark(), "integer '" + text + "' is out of range");
+    }
+    return value;
+  }
+  nlohmann::json value = ResolvePlain(text);
+  const bool ok = (tag == "tag:yaml.org,2002:int" && value.is_number_integer()) ||
+                  (tag == "tag:yaml.org,2002:float" && value.is_number()) ||
+                  (tag == "tag:yaml.org,2002:bool" && value.is_boolean()) ||
+                  (tag == "tag:yaml.org,2002:null" && value.is_null());
+  if (!ok) Fail(source, node.Mark(), "cannot read '" + text + "' as " + tag);
+  if (tag == "tag:yaml.org,2002:float") return value.get<double>();
+  return value;
+}
+
+nlohmann::json Convert(const YAML::Node& node, std::string_view source) {
+  switch (node.Type()) {
+    case YAML::NodeType::Undefined:
+    case YAML::NodeType::Null:
+      return nullptr;
+    case YAML::NodeType::Scalar:
+      return ConvertScalar(node, source);
+    case YAML::NodeType::Sequence: {
+      nlohmann::json array = nlohmann::json::array();
+      for (const auto& item : node) array.push_back(Convert(item, source));
+      return array;
+    }
+    case YAML::NodeType::Map: {
+      nlohmann::json object = nlohmann::json::object();
+      for (const auto& entry : node) {
+        if (!entry.first.IsScalar()) Fail(source, entry.first.Mark(), "map keys must be scalars");
+        const std::string& key = entry.first.Scalar();
+        if (object.contains(key)) Fail(source, entry.first.Mark(), "duplicate key '" + key + "'");
+        object[key] = Convert(entry.second, source);
+      }
+      return object;
+    }
+  }
+  return nullptr;
+}
+
+// Strings that can be written unquoted in block and flow context alike.
+bool IsSafePlain(const std::string& s) {
+  static const std::regex kPlain("[A-Za-z0-9_/.][A-Za-z0-9_./+-]*( [A-Za-z0-9_./+-]+)*");
+  if (!std::regex_match(s, kPlain) || LooksLikeInt(s)) return false;
+  const nlohmann::json resolved = ResolvePlain(s);
+  return resolved.is_string();
+}
+
+std::string Scalar(const nlohmann::json& v) {
+  if (v.is_object()) return "{}";
+  if (v.is_array()) return "[]";
+  if (v.is_number_float()) {
+    const double d = v.get<double>();
+    if (std::isnan(d)) return ".nan";
+    if (std::isinf(d)) return d > 0 ? ".inf" : "-.inf";
+    return v.dump();  // nlohmann keeps a ".0" or an exponent: reads back as a float
+  }
+  if (v.is_string()) {
+    const auto& s = v.get_ref<const std::string&>();
+    return IsSafePlain(s) ? s : v.dump();  // a JSON string is a valid double-quoted YAML scalar
+  }
+  return v.dump();  // null, bool, integers
+}
+
+bool IsCollection(const nlohmann::json& v) { return (v.is_object() || v.is_array()) && !v.empty(); }
+
+bool AllScalars(const nlohmann::json& array) {
+  for (const auto& item : array) {
+    if (IsCollection(item)) return false;
+  }
+  return true;
+}
+
+std::string FlowSequence(const nlohmann::json& array) {
+  std::string out = "[";
+  for (const auto& item : array) out += (out.size() > 1 ? ", " : "") + Scalar(item);
+  return out + "]";
+}
+
+void EmitSequence(const nlohmann::json& array, int indent, std::string& out);
+
+void EmitMap(const nlohmann::json& object, int indent, std::string& out) {
+  const std::string pad(indent, ' ');
+  for (const auto& [key, value] : object.items()) {
+    out += pad + Scalar(nlohmann::json(key)) + ":";
+    if (value.is_object() && !value.empty()) {
+      out += "\n";
+      EmitMap(value, indent + 2, out);
+    } else if (value.is_array() && !value.empty() && !AllScalars(value)) {
+      out += "\n";
+      EmitSequence(value, indent + 2, out);
+    } else if (value.is_array() && !value.empty()) {
+      out += " " + FlowSequence(value) + "\n";
+    } else {
+      out += " " + Scalar(value) + "\n";
+    }
+  }
+}
+
+void EmitSequence(const nlohmann::json& array, int indent, std::string& out) {
+  const std::string pad(indent, ' ');
+  for (const auto& item : array) {
+    out += pad + "-";
+    if (item.is_object() && !item.empty()) {
+      // the first key goes on the dash's line
+      std::string nested;
+      EmitMap(item, indent + 2, nested);
+      out += " " + nested.substr(indent + 2);
+    } else if (item.is_array() && !item.empty() && !AllScalars(item)) {
+      out += "\n";
+      EmitSequence(item, indent + 2, out);
+    } else if (item.is_array() && !item.empty()) {
+      out += " " + FlowSequence(item) + "\n";
+    } else {
+      out += " " + Scalar(item) + "\n";
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json ParseYaml(std::string_view text, std::string_view source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    Fail(source, e.mark, e.msg);
+  }
+  return Convert(root, source);
+}
+
+nlohmann::json LoadYamlFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    throw ConfigError("cannot read config file '" + path.string() + "': " + std::strerror(errno));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ConfigError("cannot read config file '" + path.string() + "'");
+  return ParseYaml(text.str(), path.string());
+}
+
+std::string DumpYaml(const nlohmann::json& json) {
+  std::string out;
+  if (json.is_object() && !json.empty()) {
+    EmitMap(json, 0, out);
+  } else if (json.is_array() && !json.empty()) {
+    EmitSequence(json, 0, out);
+  } else {
+    out = Scalar(json) + "\n";
+  }
+  return out;
+}
+
+}  // namespace manyworlds

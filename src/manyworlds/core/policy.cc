@@ -1,0 +1,85 @@
+#include "manyworlds/core/policy.h"
+
+#include <string>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds {
+
+nlohmann::json RolloutSummary::ToJson() const {
+  // nlohmann::json keeps object keys sorted and prints doubles with the
+  // shortest round-trip form, so the text is deterministic.
+  const bool has_success = success_rate >= 0.0;
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& e : episodes) {
+    list.push_back({{"return", e.episode_return},
+                    {"length", e.length},
+                    {"success", e.success >= 0 ? nlohmann::json(e.success) : nlohmann::json()}});
+  }
+  return {{"episodes", std::move(list)},
+          {"mean_return", mean_return},
+          {"success_rate", has_success ? nlohmann::json(success_rate) : nlohmann::json()}};
+}
+
+RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps_per_episode) {
+  if (episodes < 0) {
+    throw ConfigError("Rollout on env '" + env.id() + "': episodes must be >= 0, got " +
+                      std::to_string(episodes));
+  }
+  if (max_steps_per_episode < 1) {
+    throw ConfigError("Rollout on env '" + env.id() +
+                      "': max_steps_per_episode must be >= 1, got " +
+                      std::to_string(max_steps_per_episode));
+  }
+  const EnvSpec& spec = env.spec();
+  const int success_index = spec.InfoIndex("success");
+  const bool has_limit = spec.max_episode_steps > 0;
+
+  // Buffers are allocated once; the view overloads allocate nothing per step.
+  std::vector<float> env_obs(spec.env_obs_space.flat_size());
+  std::vector<float> task_obs(spec.task_obs_space.flat_size());
+  std::vector<float> info(spec.info_fields.size());
+  std::vector<float> action(spec.action_space.flat_size());
+  float reward = 0.0f;
+  bool terminated = false, truncated = false;
+  const StepView step_view{env_obs, task_obs, &reward, &terminated, &truncated, info};
+
+  RolloutSummary summary;
+  summary.episodes.reserve(episodes);
+  double total_return = 0.0, total_length = 0.0;
+  int successes = 0;
+  for (int episode = 0; episode < episodes; ++episode) {
+    policy.BeginEpisode();
+    env.Reset(ObsView{env_obs, task_obs});
+    EpisodeStats stats;
+    stats.success = success_index >= 0 ? 0 : -1;
+    while (true) {
+      policy.Act(env_obs, task_obs, action);
+      env.Step(action, step_view);
+      stats.episode_return += reward;
+      ++stats.length;
+      if (success_index >= 0 && info[success_index] > 0.0f) stats.success = 1;
+      stats.terminated = terminated;
+      stats.truncated = truncated;
+      if (terminated || truncated) break;
+      if (!has_limit && stats.length >= max_steps_per_episode) {
+        stats.truncated = true;
+        break;
+      }
+    }
+    total_return += stats.episode_return;
+    total_length += static_cast<double>(stats.length);
+    successes += stats.success > 0 ? 1 : 0;
+    summary.episodes.push_back(stats);
+  }
+  if (episodes > 0) {
+    summary.mean_return = total_return / episodes;
+    summary.mean_length = total_length / episodes;
+  }
+  if (success_index >= 0) {
+    summary.success_rate = episodes > 0 ? static_cast<double>(successes) / episodes : 0.0;
+  }
+  return summary;
+}
+
+}  // namespace manyworlds

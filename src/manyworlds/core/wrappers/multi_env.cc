@@ -1,0 +1,135 @@
+#include "manyworlds/core/wrappers/multi_env.h"
+
+#include <algorithm>
+#include <string>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds {
+namespace {
+
+std::string JoinFields(const std::vector<std::string>& fields) {
+  std::string joined;
+  for (const auto& f : fields) joined += (joined.empty() ? "" : ", ") + f;
+  return "[" + joined + "]";
+}
+
+EnvSpec MakeSpec(const std::vector<std::unique_ptr<Env>>& envs, std::string id) {
+  if (envs.empty()) throw ConfigError("MultiEnv needs at least one env, got none");
+  for (size_t i = 0; i < envs.size(); ++i) {
+    if (!envs[i]) throw ConfigError("MultiEnv: env " + std::to_string(i) + " is null");
+  }
+  const EnvSpec& first = envs[0]->spec();
+  auto mismatch = [&](size_t i, const std::string& what, const std::string& got,
+                      const std::string& expected) {
+    throw ConfigError("MultiEnv: env " + std::to_string(i) + " ('" + envs[i]->id() + "') has " +
+                      what + " " + got + ", but env 0 ('" + first.id + "') has " + expected +
+                      "; all envs must share action space, env observation space and info "
+                      "fields");
+  };
+  EnvSpec spec;
+  std::string ids;
+  int64_t limit = 0;
+  bool unlimited = false;
+  for (size_t i = 0; i < envs.size(); ++i) {
+    const EnvSpec& s = envs[i]->spec();
+    if (!(s.action_space == first.action_space)) {
+      mismatch(i, "action space", s.action_space.ToString(), first.action_space.ToString());
+    }
+    if (!(s.env_obs_space == first.env_obs_space)) {
+      // ToString summarises per-element bounds; the JSON shows any difference.
+      const bool same_text = s.env_obs_space.ToString() == first.env_obs_space.ToString();
+      mismatch(i, "env observation space",
+               same_text ? s.env_obs_space.ToJson().dump() : s.env_obs_space.ToString(),
+               same_text ? first.env_obs_space.ToJson().dump() : first.env_obs_space.ToString());
+    }
+    if (s.info_fields != first.info_fields) {
+      mismatch(i, "info fields", JoinFields(s.info_fields), JoinFields(first.info_fields));
+    }
+    ids += (i == 0 ? "" : ",") + s.id;
+    unlimited = unlimited || s.max_episode_steps == 0;
+    limit = std::max(limit, s.max_episode_steps);
+  }
+  spec.id = id.empty() ? "multi-env(" + ids + ")" : std::move(id);
+  spec.description =
+      "one of " + std::to_string(envs.size()) + " envs, selected by the task: " + ids;
+  spec.action_space = first.action_space;
+  spec.env_obs_space = first.env_obs_space;
+  spec.task_obs_space = Space::Discrete(static_cast<int64_t>(envs.size()));
+  spec.info_fields = first.info_fields;
+  spec.max_episode_steps = unlimited ? 0 : limit;
+  return spec;
+}
+
+}  // namespace
+
+MultiEnv::MultiEnv(std::vector<std::unique_ptr<Env>> envs, std::string env_id)
+    : Env(MakeSpec(envs, std::move(env_id))), envs_(std::move(envs)) {
+  member_task_obs_.reserve(envs_.size());
+  for (const auto& env : envs_) {
+    member_task_obs_.emplace_back(env->spec().task_obs_space.flat_size(), 0.0f);
+  }
+}
+
+void MultiEnv::Seed(uint64_t seed) {
+  Env::Seed(seed);
+  for (size_t i = 0; i < envs_.size(); ++i) envs_[i]->Seed(MixSeed(seed, i));
+}
+
+void MultiEnv::SeedTask(uint64_t seed) {
+  Env::SeedTask(seed);
+  for (size_t i = 0; i < envs_.size(); ++i) envs_[i]->SeedTask(MixSeed(seed, i));
+}
+
+void MultiEnv::SetMaxEpisodeSteps(int64_t max_episode_steps) {
+  for (auto& env : envs_) env->SetMaxEpisodeSteps(max_episode_steps);
+  Env::SetMaxEpisodeSteps(max_episode_steps);
+}
+
+TaskState MultiEnv::MakeState(int index, const TaskState& member_state) const {
+  return TaskState{id(), {{"index", index}, {"task", member_state.ToJson()}}};
+}
+
+TaskState MultiEnv::DoSampleTaskState(Rng& task_rng) {
+  const int index = static_cast<int>(task_rng.UniformInt(envs_.size()));
+  return MakeState(index, envs_[index]->SampleTaskState());
+}
+
+TaskState MultiEnv::DoGetTaskState() const {
+  return MakeState(active_, envs_[active_]->GetTaskState());
+}
+
+void MultiEnv::DoSetTaskState(const TaskState& state) {
+  TaskStateReader reader(state, id());
+  reader.ExpectKeys({"index", "task"});
+  const int index = static_cast<int>(reader.Integer("index", 0, num_envs() - 1));
+  const std::string prefix = "task state for env '" + id() + "': field 'task' ";
+  auto it = state.params.find("task");
+  if (it == state.params.end()) throw TaskStateError(prefix + "is missing");
+  TaskState member_state;
+  try {
+    member_state = TaskState::FromJson(*it);
+  } catch (const TaskStateError& e) {
+    throw TaskStateError(prefix + "is not a task state: " + e.what());
+  }
+  try {
+    envs_[index]->SetTaskState(member_state);
+  } catch (const TaskStateError& e) {
+    throw TaskStateError(prefix + "was rejected by env " + std::to_string(index) + " ('" +
+                         envs_[index]->id() + "'): " + e.what());
+  }
+  active_ = index;
+  const float task_obs[1] = {static_cast<float>(index)};
+  SetTaskObs(task_obs);
+}
+
+void MultiEnv::DoReset(const ObsView& out) {
+  envs_[active_]->Reset(ObsView{out.env_obs, member_task_obs_[active_]});
+}
+
+void MultiEnv::DoStep(std::span<const float> action, const StepView& out) {
+  envs_[active_]->Step(action, StepView{out.env_obs, member_task_obs_[active_], out.reward,
+                                        out.terminated, out.truncated, out.info});
+}
+
+}  // namespace manyworlds

@@ -1,0 +1,74 @@
+#include "manyworlds/manipulation/manipulation.h"
+
+#include <functional>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/manipulation/pick_place.h"
+#include "manyworlds/manipulation/push.h"
+#include "manyworlds/manipulation/reach.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+// One row per task: adding a task means adding a row here.
+struct TaskEntry {
+  std::function<SawyerTaskConfig()> config;
+  std::function<std::unique_ptr<Env>(SawyerOptions)> make_env;
+  std::function<std::unique_ptr<Policy>()> make_policy;
+};
+
+template <typename Task, typename ScriptedPolicy>
+TaskEntry Entry() {
+  return {&Task::Config,
+          [](SawyerOptions options) { return std::make_unique<Task>(options); },
+          [] { return std::make_unique<ScriptedPolicy>(); }};
+}
+
+const std::vector<TaskEntry>& Tasks() {
+  static const std::vector<TaskEntry> tasks = {
+      Entry<Reach, ReachScriptedPolicy>(),
+      Entry<Push, PushScriptedPolicy>(),
+      Entry<PickPlace, PickPlaceScriptedPolicy>(),
+  };
+  return tasks;
+}
+
+std::vector<OptionSpec> SuiteOptions() {
+  return {
+      {"goal_observable", OptionType::kBool, true,
+       "goal position in obs[36:39] and the task observation (false: zeros, meta-RL setting)"},
+      {"throw_on_sim_warning", OptionType::kBool, false,
+       "throw on MuJoCo warnings during a step instead of truncating the episode"},
+  };
+}
+
+}  // namespace
+
+void RegisterManipulationSuite(Registry& registry) {
+  for (const TaskEntry& task : Tasks()) {
+    const SawyerTaskConfig config = task.config();
+    registry.Add({config.id, "manipulation", config.description, SuiteOptions(),
+                  [make = task.make_env](const Options& options) {
+                    SawyerOptions sawyer;
+                    sawyer.goal_observable = options.Bool("goal_observable");
+                    sawyer.throw_on_sim_warning = options.Bool("throw_on_sim_warning");
+                    return make(sawyer);
+                  }});
+  }
+}
+
+std::vector<std::string> ManipulationTaskIds() {
+  std::vector<std::string> ids;
+  for (const TaskEntry& task : Tasks()) ids.push_back(task.config().id);
+  return ids;
+}
+
+std::unique_ptr<Policy> MakeScriptedPolicy(std::string_view task_id) {
+  for (const TaskEntry& task : Tasks()) {
+    if (task.config().id == task_id) return task.make_policy();
+  }
+  throw ConfigError("no scripted manipulation policy for '" + std::string(task_id) + "'" +
+                    SuggestNearest(task_id, ManipulationTaskIds()));
+}
+
+}  // namespace manyworlds::manipulation

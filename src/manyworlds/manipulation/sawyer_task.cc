@@ -1,0 +1,267 @@
+#include "manyworlds/manipulation/sawyer_task.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/manipulation/assets.h"
+#include "manyworlds/sim/ids.h"
+#include "manyworlds/sim/warnings.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+const char* const kArmJoints[7] = {"arm_j0", "arm_j1", "arm_j2", "arm_j3",
+                                   "arm_j4", "arm_j5", "arm_j6"};
+// Joint angles that put the hand near (0, 0.6, 0.2) pointing down, so the
+// settle phase starts close to its end (planar two-link IK for the arm in
+// sawyer_arena.xml).
+constexpr double kArmHome[7] = {0.0, 0.502, 0.0, 2.342, 0.0, 0.297, 0.0};
+constexpr int kSettleSubsteps = 50 * kFrameSkip;
+
+// Observation bounds of the hand (metaworld.md §2.3).
+constexpr float kHandSpaceLow[3] = {-0.525f, 0.348f, -0.0525f};
+constexpr float kHandSpaceHigh[3] = {0.525f, 1.025f, 0.7f};
+
+Vec3 ToVec3(const mjtNum* p) { return {p[0], p[1], p[2]}; }
+
+std::vector<double> ToVector(const Vec3& v) { return {v[0], v[1], v[2]}; }
+
+double XyDistance(const Vec3& a, const Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
+
+}  // namespace
+
+EnvSpec SawyerTask::MakeSpec(const SawyerTaskConfig& config, const SawyerOptions& options) {
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> low(kObsSize, -inf), high(kObsSize, inf);
+  for (int frame = 0; frame < 2; ++frame) {
+    const int base = frame * kObsFrame;
+    for (int i = 0; i < 3; ++i) {
+      low[base + kObsHand + i] = kHandSpaceLow[i];
+      high[base + kObsHand + i] = kHandSpaceHigh[i];
+    }
+    low[base + kObsGripper] = -1.0f;
+    high[base + kObsGripper] = 1.0f;
+  }
+  for (int i = 0; i < 3; ++i) {
+    low[kObsGoal + i] = options.goal_observable ? static_cast<float>(config.goal_low[i]) : 0.0f;
+    high[kObsGoal + i] = options.goal_observable ? static_cast<float>(config.goal_high[i]) : 0.0f;
+  }
+  EnvSpec spec;
+  spec.id = config.id;
+  spec.description = config.description;
+  spec.action_space = Space::Box(-1.0f, 1.0f, {4});
+  spec.env_obs_space = Space::Box(std::move(low), std::move(high), {kObsSize});
+  if (options.goal_observable) {
+    std::vector<float> goal_low(3), goal_high(3);
+    for (int i = 0; i < 3; ++i) {
+      goal_low[i] = static_cast<float>(config.goal_low[i]);
+      goal_high[i] = static_cast<float>(config.goal_high[i]);
+    }
+    spec.task_obs_space = Space::Box(std::move(goal_low), std::move(goal_high), {3});
+  }
+  spec.info_fields = {"success",         "near_object",   "grasp_success",  "grasp_reward",
+                      "in_place_reward", "obj_to_target", "unscaled_reward"};
+  spec.max_episode_steps = kMaxEpisodeSteps;
+  return spec;
+}
+
+SawyerTask::SawyerTask(SawyerTaskConfig config, SawyerOptions options)
+    : Env(MakeSpec(config, options)), config_(std::move(config)), options_(options) {
+  model_ = LoadTaskModel(config_.xml_file);
+  data_ = sim::MakeData(model_.get());
+  const sim::IdLookup ids(model_.get(), config_.xml_file);
+  hand_site_ = ids.Site("hand_site");
+  left_pad_site_ = ids.Site("left_pad_site");
+  right_pad_site_ = ids.Site("right_pad_site");
+  obj_body_ = ids.Body("obj");
+  obj_geom_ = ids.Geom("obj_geom");
+  left_pad_geom_ = ids.Geom("left_pad");
+  right_pad_geom_ = ids.Geom("right_pad");
+  obj_qpos_ = ids.FreeJointQposAddress("obj");
+  obj_dof_ = model_->jnt_dofadr[model_->body_jntadr[obj_body_]];
+  hand_mocap_ = ids.MocapIndex("hand_mocap");
+  goal_mocap_ = ids.MocapIndex("goal");
+  left_act_ = ids.Actuator("left_finger_act");
+  right_act_ = ids.Actuator("right_finger_act");
+  int arm_qpos[7];
+  for (int i = 0; i < 7; ++i) arm_qpos[i] = ids.QposAddress(kArmJoints[i]);
+
+  // Settle once: hold the mocap at the hand start with the gripper open.
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  mj_resetData(m, d);
+  for (int i = 0; i < 7; ++i) d->qpos[arm_qpos[i]] = kArmHome[i];
+  for (int i = 0; i < 3; ++i) d->mocap_pos[3 * hand_mocap_ + i] = config_.hand_init[i];
+  const mjtNum identity[4] = {1, 0, 0, 0};
+  mju_copy4(d->mocap_quat + 4 * hand_mocap_, identity);
+  d->ctrl[left_act_] = -1;
+  d->ctrl[right_act_] = -1;
+  sim::StepAndCheck(m, d, kSettleSubsteps, /*throw_on_warning=*/true,
+                    config_.id + ": settling the hand");
+  sim::GetState(m, d, &settled_);
+  settled_.time = 0;
+  state_.hand_init = config_.hand_init;
+}
+
+TaskState SawyerTask::DoSampleTaskState(Rng& rng) {
+  Vec3 obj{}, goal{};
+  // Rejection sampling as in the reference: redraw both until the object and
+  // goal are far enough apart in xy.
+  do {
+    for (int i = 0; i < 3; ++i) obj[i] = rng.Uniform(config_.obj_low[i], config_.obj_high[i]);
+    for (int i = 0; i < 3; ++i) goal[i] = rng.Uniform(config_.goal_low[i], config_.goal_high[i]);
+    if (config_.goal_z_at_object) goal[2] = obj[2];
+  } while (XyDistance(obj, goal) < config_.min_obj_goal_xy);
+  return TaskState{id(), {{"obj_pos", ToVector(obj)}, {"goal_pos", ToVector(goal)}}};
+}
+
+TaskState SawyerTask::DoGetTaskState() const {
+  return TaskState{id(), {{"obj_pos", ToVector(obj_pos_)}, {"goal_pos", ToVector(goal_pos_)}}};
+}
+
+void SawyerTask::DoSetTaskState(const TaskState& state) {
+  TaskStateReader reader(state, id());
+  reader.ExpectKeys({"obj_pos", "goal_pos"});
+  // Numbers() checks one range for all components; the per-axis ranges are
+  // checked below.
+  const std::vector<double> o = reader.Numbers("obj_pos", 3, -10.0, 10.0);
+  const std::vector<double> g = reader.Numbers("goal_pos", 3, -10.0, 10.0);
+  const Vec3 obj{o[0], o[1], o[2]};
+  const Vec3 goal{g[0], g[1], g[2]};
+  const char* axes = "xyz";
+  for (int i = 0; i < 3; ++i) {
+    const double goal_low = config_.goal_z_at_object && i == 2 ? config_.obj_low[2] : config_.goal_low[i];
+    const double goal_high = config_.goal_z_at_object && i == 2 ? config_.obj_high[2] : config_.goal_high[i];
+    if (obj[i] < config_.obj_low[i] || obj[i] > config_.obj_high[i]) {
+      throw TaskStateError("env '" + id() + "': obj_pos." + axes[i] + " = " +
+                           std::to_string(obj[i]) + " outside [" +
+                           std::to_string(config_.obj_low[i]) + ", " +
+                           std::to_string(config_.obj_high[i]) + "]");
+    }
+    if (goal[i] < goal_low || goal[i] > goal_high) {
+      throw TaskStateError("env '" + id() + "': goal_pos." + axes[i] + " = " +
+                           std::to_string(goal[i]) + " outside [" + std::to_string(goal_low) +
+                           ", " + std::to_string(goal_high) + "]");
+    }
+  }
+  if (XyDistance(obj, goal) < config_.min_obj_goal_xy) {
+    throw TaskStateError("env '" + id() + "': obj_pos and goal_pos are " +
+                         std::to_string(XyDistance(obj, goal)) + " m apart in xy, need >= " +
+                         std::to_string(config_.min_obj_goal_xy));
+  }
+  obj_pos_ = obj;
+  goal_pos_ = goal;
+  if (options_.goal_observable) {
+    const float task_obs[3] = {static_cast<float>(goal[0]), static_cast<float>(goal[1]),
+                               static_cast<float>(goal[2])};
+    SetTaskObs(task_obs);
+  } else {
+    SetTaskObs({});
+  }
+}
+
+void SawyerTask::DoReset(const ObsView& out) {
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  mj_resetData(m, d);
+  sim::SetState(m, d, settled_);
+  // Object upright at rest at the task position; goal marker on its mocap.
+  const mjtNum upright[7] = {obj_pos_[0], obj_pos_[1], obj_pos_[2], 1, 0, 0, 0};
+  mju_copy(d->qpos + obj_qpos_, upright, 7);
+  mju_zero(d->qvel + obj_dof_, 6);
+  mju_zero(d->qacc_warmstart + obj_dof_, 6);
+  for (int i = 0; i < 3; ++i) d->mocap_pos[3 * goal_mocap_ + i] = goal_pos_[i];
+  mj_forward(m, d);
+
+  state_.obj_init = obj_pos_;
+  RefreshState();
+  state_.tcp_init = state_.tcp;
+  WriteFrame(prev_frame_);
+  WriteObs(out.env_obs);
+}
+
+void SawyerTask::DoStep(std::span<const float> action, const StepView& out) {
+  mjModel* m = model_.get();
+  mjData* d = data_.get();
+  mjtNum* mocap = d->mocap_pos + 3 * hand_mocap_;
+  for (int i = 0; i < 3; ++i) {
+    mocap[i] = std::clamp(mocap[i] + kActionScale * action[i], config_.hand_low[i],
+                          config_.hand_high[i]);
+  }
+  d->ctrl[left_act_] = action[3];
+  d->ctrl[right_act_] = action[3];
+
+  WriteFrame(prev_frame_);  // the frame before this step becomes obs[18:36]
+  const int raised = sim::StepAndCheck(m, d, kFrameSkip, /*throw_on_warning=*/false);
+  if (raised > 0) {
+    ++sim_warning_count_;
+    last_sim_warning_ = config_.id + " step: " + sim::DescribeWarnings(d);
+    sim::ClearWarnings(d);
+    if (options_.throw_on_sim_warning) throw sim::SimulationWarningError(last_sim_warning_);
+    // The state is not trustworthy: end the episode without reward.
+    RefreshState();
+    WriteObs(out.env_obs);
+    *out.truncated = true;
+    return;
+  }
+  RefreshState();
+  WriteObs(out.env_obs);
+  const RewardTerms terms = ComputeReward(state_, action);
+  *out.reward = static_cast<float>(terms.reward);
+  out.info[0] = terms.success ? 1.0f : 0.0f;
+  out.info[1] = static_cast<float>(terms.near_object);
+  out.info[2] = static_cast<float>(terms.grasp_success);
+  out.info[3] = static_cast<float>(terms.grasp_reward);
+  out.info[4] = static_cast<float>(terms.in_place_reward);
+  out.info[5] = static_cast<float>(terms.obj_to_target);
+  out.info[6] = static_cast<float>(terms.reward);
+}
+
+void SawyerTask::RefreshState() {
+  const mjData* d = data_.get();
+  state_.hand = ToVec3(d->site_xpos + 3 * hand_site_);
+  state_.left_pad = ToVec3(d->site_xpos + 3 * left_pad_site_);
+  state_.right_pad = ToVec3(d->site_xpos + 3 * right_pad_site_);
+  for (int i = 0; i < 3; ++i) state_.tcp[i] = 0.5 * (state_.left_pad[i] + state_.right_pad[i]);
+  state_.obj = ToVec3(d->xpos + 3 * obj_body_);
+  state_.goal = goal_pos_;
+  state_.gripper_opening = std::clamp(Distance(state_.left_pad, state_.right_pad) / 0.1, 0.0, 1.0);
+  state_.touching_obj = false;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    const int other = c.geom1 == obj_geom_ ? c.geom2 : (c.geom2 == obj_geom_ ? c.geom1 : -1);
+    if (other == left_pad_geom_ || other == right_pad_geom_) {
+      state_.touching_obj = true;
+      break;
+    }
+  }
+}
+
+void SawyerTask::WriteFrame(float* frame) const {
+  const mjData* d = data_.get();
+  for (int i = 0; i < 3; ++i) {
+    frame[kObsHand + i] =
+        std::clamp(static_cast<float>(state_.hand[i]), kHandSpaceLow[i], kHandSpaceHigh[i]);
+  }
+  frame[kObsGripper] = static_cast<float>(state_.gripper_opening);
+  for (int i = 0; i < 3; ++i) frame[kObsObj1Pos + i] = static_cast<float>(state_.obj[i]);
+  // MuJoCo stores (w, x, y, z); the observation uses (x, y, z, w).
+  const mjtNum* q = d->xquat + 4 * obj_body_;
+  frame[kObsObj1Quat + 0] = static_cast<float>(q[1]);
+  frame[kObsObj1Quat + 1] = static_cast<float>(q[2]);
+  frame[kObsObj1Quat + 2] = static_cast<float>(q[3]);
+  frame[kObsObj1Quat + 3] = static_cast<float>(q[0]);
+  std::fill(frame + kObsObj2Pos, frame + kObsFrame, 0.0f);
+}
+
+void SawyerTask::WriteObs(std::span<float> obs) const {
+  WriteFrame(obs.data());
+  std::copy(prev_frame_, prev_frame_ + kObsFrame, obs.data() + kObsPrev);
+  for (int i = 0; i < 3; ++i) {
+    obs[kObsGoal + i] = options_.goal_observable ? static_cast<float>(goal_pos_[i]) : 0.0f;
+  }
+}
+
+}  // namespace manyworlds::manipulation

@@ -1,0 +1,156 @@
+// SawyerTask: the shared mechanics of the Meta-World-style tasks
+// (metaworld.md §2): mocap-driven hand, two-finger gripper, the 39-value
+// observation, reset and task variations. Each task derives from it, names
+// its MJCF file and ranges (SawyerTaskConfig) and writes its reward.
+//
+// Action (4, in [-1, 1]): a[0:3] hand displacement, 1 cm per unit per step,
+//   clipped to the task's hand bounds, orientation fixed; a[3] gripper
+//   (-1 open .. +1 closed), sent to both finger actuators.
+// Timing: 0.0025 s timestep, 5 substeps per env step, 500-step episodes
+//   (truncated, never terminated).
+// Observation (39):
+//   [0:3]   hand position (site hand_site)
+//   [3]     gripper opening = clip(|right pad - left pad| / 0.1, 0, 1)
+//   [4:7]   object 1 position        [7:11]  object 1 quaternion (x, y, z, w)
+//   [11:14] object 2 position        [14:18] object 2 quaternion (zeros when
+//           the task has no second object)
+//   [18:36] the previous step's [0:18] (a copy of [0:18] after reset)
+//   [36:39] goal position (zeros when the goal is hidden)
+// Task observation: the goal position (3) when observable, else empty.
+// Info: success, near_object, grasp_success, grasp_reward, in_place_reward,
+//   obj_to_target, unscaled_reward (task-specific meanings; see each task).
+// Task state params: {"obj_pos": [x, y, z], "goal_pos": [x, y, z]}, each
+//   inside the task's ranges, xy separation >= the task's minimum.
+//
+// Reset: the hand is settled at the task's hand start once, at
+// construction (the mocap held there for 50 env steps = 250 substeps with the
+// gripper open, as Meta-World does on every reset); every reset restores that
+// settled state, then places the object and goal from the task state. Resets
+// are thus independent of the previous episode. The env seed has no effect:
+// as in Meta-World, everything random is in the task state.
+//
+// MuJoCo warnings during a step (instability, full contact buffer) are
+// counted (sim_warning_count, last_sim_warning); the step then reports
+// reward 0 and all-zero info and truncates the episode, or, with
+// throw_on_sim_warning, throws sim::SimulationWarningError.
+#ifndef MANYWORLDS_MANIPULATION_SAWYER_TASK_H_
+#define MANYWORLDS_MANIPULATION_SAWYER_TASK_H_
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "manyworlds/core/env.h"
+#include "manyworlds/manipulation/reward_utils.h"
+#include "manyworlds/sim/model.h"
+#include "manyworlds/sim/state.h"
+
+namespace manyworlds::manipulation {
+
+// Observation layout.
+inline constexpr int kObsSize = 39;
+inline constexpr int kObsHand = 0;
+inline constexpr int kObsGripper = 3;
+inline constexpr int kObsObj1Pos = 4;
+inline constexpr int kObsObj1Quat = 7;
+inline constexpr int kObsObj2Pos = 11;
+inline constexpr int kObsObj2Quat = 14;
+inline constexpr int kObsFrame = 18;  // size of one frame [0:18]
+inline constexpr int kObsPrev = 18;
+inline constexpr int kObsGoal = 36;
+
+inline constexpr int kFrameSkip = 5;
+inline constexpr int kMaxEpisodeSteps = 500;
+inline constexpr double kActionScale = 0.01;  // metres per action unit per step
+// The tcp (midpoint of the finger pads) sits this far below the hand site.
+inline constexpr double kTcpBelowHand = 0.035;
+
+// Static description of one task.
+struct SawyerTaskConfig {
+  std::string id;           // registry id, e.g. "reach"
+  std::string description;
+  std::string xml_file;     // embedded asset, e.g. "reach.xml"
+  Vec3 hand_low{-0.5, 0.40, 0.05};
+  Vec3 hand_high{0.5, 1.0, 0.5};
+  Vec3 hand_init{0.0, 0.6, 0.2};
+  Vec3 obj_low, obj_high;    // object start range
+  Vec3 goal_low, goal_high;  // goal range
+  double min_obj_goal_xy = 0.15;   // resample while closer (xy)
+  bool goal_z_at_object = false;   // goal height forced to the object's
+};
+
+struct SawyerOptions {
+  bool goal_observable = true;        // false: obs[36:39] zero, no task obs
+  bool throw_on_sim_warning = false;
+};
+
+// World-frame quantities rewards read; refreshed after every step.
+struct SawyerState {
+  Vec3 hand{}, tcp{}, left_pad{}, right_pad{}, obj{}, goal{};
+  Vec3 obj_init{}, tcp_init{}, hand_init{};
+  double gripper_opening = 0;  // obs[3]
+  bool touching_obj = false;   // a finger pad is in contact with the object
+};
+
+// One step's reward and info values.
+struct RewardTerms {
+  double reward = 0;  // in [0, 10]
+  bool success = false;
+  double near_object = 0;
+  double grasp_success = 0;
+  double grasp_reward = 0;
+  double in_place_reward = 0;
+  double obj_to_target = 0;
+};
+
+class SawyerTask : public Env {
+ public:
+  const mjModel* model() const { return model_.get(); }
+  const mjData* data() const { return data_.get(); }
+  const SawyerTaskConfig& config() const { return config_; }
+  const SawyerState& state() const { return state_; }
+  long sim_warning_count() const { return sim_warning_count_; }
+  const std::string& last_sim_warning() const { return last_sim_warning_; }
+
+ protected:
+  SawyerTask(SawyerTaskConfig config, SawyerOptions options);
+
+  // The task's reward and info for the state after a step. Pure.
+  virtual RewardTerms ComputeReward(const SawyerState& state,
+                                    std::span<const float> action) const = 0;
+
+  TaskState DoSampleTaskState(Rng& task_rng) override;
+  TaskState DoGetTaskState() const override;
+  void DoSetTaskState(const TaskState& state) override;
+  void DoReset(const ObsView& out) override;
+  void DoStep(std::span<const float> action, const StepView& out) override;
+
+ private:
+  static EnvSpec MakeSpec(const SawyerTaskConfig& config, const SawyerOptions& options);
+  void RefreshState();
+  void WriteFrame(float* frame) const;  // the 18 values of obs[0:18]
+  void WriteObs(std::span<float> obs) const;
+
+  SawyerTaskConfig config_;
+  SawyerOptions options_;
+  sim::ModelPtr model_;
+  sim::DataPtr data_;
+  sim::SimState settled_;  // hand settled at hand_init, gripper open
+
+  // Ids cached at construction.
+  int hand_site_ = -1, left_pad_site_ = -1, right_pad_site_ = -1;
+  int obj_body_ = -1, obj_geom_ = -1, left_pad_geom_ = -1, right_pad_geom_ = -1;
+  int obj_qpos_ = -1, obj_dof_ = -1;
+  int hand_mocap_ = -1, goal_mocap_ = -1;
+  int left_act_ = -1, right_act_ = -1;
+
+  Vec3 obj_pos_{}, goal_pos_{};  // the task variation
+  SawyerState state_;
+  float prev_frame_[kObsFrame] = {};
+  long sim_warning_count_ = 0;
+  std::string last_sim_warning_;
+};
+
+}  // namespace manyworlds::manipulation
+
+#endif  // MANYWORLDS_MANIPULATION_SAWYER_TASK_H_

@@ -1,0 +1,74 @@
+#include "manyworlds/nn/gaussian_policy.h"
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::nn {
+
+torch::Tensor TanhLogAbsDetJacobian(const torch::Tensor& u) {
+  // 1 - tanh(u)^2 = 4 / (e^u + e^-u)^2, whose log is 2 (log 2 - u - softplus(-2u)).
+  const double log2 = std::log(2.0);
+  return (2.0 * (log2 - u - torch::softplus(-2.0 * u))).sum(-1);
+}
+
+torch::Tensor DiagGaussianLogProb(const torch::Tensor& u, const torch::Tensor& mean,
+                                  const torch::Tensor& log_std) {
+  const double half_log_2pi = 0.5 * std::log(2.0 * std::numbers::pi);
+  torch::Tensor z = (u - mean) * torch::exp(-log_std);
+  return (-0.5 * z.square() - log_std - half_log_2pi).sum(-1);
+}
+
+torch::Tensor BoundLogStd(const torch::Tensor& raw, double log_std_min, double log_std_max) {
+  return log_std_min + 0.5 * (log_std_max - log_std_min) * (torch::tanh(raw) + 1.0);
+}
+
+SquashedSample SampleSquashedGaussian(const torch::Tensor& mean, const torch::Tensor& log_std,
+                                      c10::optional<at::Generator> generator) {
+  torch::Tensor eps = torch::randn(mean.sizes(), generator, mean.options());
+  torch::Tensor u = mean + eps * log_std.exp();
+  // log N(u) written with eps directly: (u - mean) / std is exactly eps.
+  const double half_log_2pi = 0.5 * std::log(2.0 * std::numbers::pi);
+  torch::Tensor log_prob = (-0.5 * eps.square() - log_std - half_log_2pi).sum(-1);
+  return {torch::tanh(u), log_prob - TanhLogAbsDetJacobian(u)};
+}
+
+GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,
+                                       c10::optional<at::Generator> generator)
+    : torch::nn::Module("GaussianPolicy"), options_(options) {
+  if (options.action_dim <= 0) {
+    throw ConfigError("GaussianPolicy: action_dim must be > 0, got " +
+                      std::to_string(options.action_dim));
+  }
+  if (!(options.log_std_min < options.log_std_max)) {
+    throw ConfigError("GaussianPolicy: log_std_min must be < log_std_max");
+  }
+  MlpOptions trunk;
+  trunk.input_dim = options.obs_dim;
+  trunk.output_dim = 2 * options.action_dim;
+  trunk.hidden_dim = options.hidden_dim;
+  trunk.num_layers = options.num_layers;
+  trunk_ = register_module("trunk", Mlp(trunk, generator));
+}
+
+PolicyOutput GaussianPolicyImpl::Forward(const torch::Tensor& obs,
+                                         at::ArrayRef<torch::Tensor> params) const {
+  torch::Tensor out = trunk_->Forward(obs, params);
+  const int64_t a = options_.action_dim;
+  return {out.narrow(-1, 0, a),
+          BoundLogStd(out.narrow(-1, a, a), options_.log_std_min, options_.log_std_max)};
+}
+
+SquashedSample GaussianPolicyImpl::Sample(const torch::Tensor& obs,
+                                          c10::optional<at::Generator> generator) {
+  PolicyOutput out = forward(obs);
+  return SampleSquashedGaussian(out.mean, out.log_std, generator);
+}
+
+torch::Tensor GaussianPolicyImpl::MeanAction(const torch::Tensor& obs) {
+  return torch::tanh(forward(obs).mean);
+}
+
+}  // namespace manyworlds::nn

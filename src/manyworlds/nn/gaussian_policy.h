@@ -1,0 +1,82 @@
+// Tanh-squashed diagonal Gaussian policy (SAC).
+//
+// The trunk (an Mlp) outputs 2*A values: the mean of u and a raw log-std
+// that goes through tanh and is rescaled to [log_std_min, log_std_max]
+// (MTRL/pytorch_sac; default [-20, 2]). The action is a = tanh(u) with
+// u ~ N(mean, std^2), so it lies in (-1, 1); callers rescale to the env's
+// bounds. The log-density of a includes the change of variables,
+//   log p(a) = log N(u) - sum_i log(1 - tanh(u_i)^2),
+// with log(1 - tanh(u)^2) = 2 (log 2 - u - softplus(-2u)), which stays finite
+// where 1 - tanh(u)^2 underflows in float.
+#ifndef MANYWORLDS_NN_GAUSSIAN_POLICY_H_
+#define MANYWORLDS_NN_GAUSSIAN_POLICY_H_
+
+#include <cstdint>
+
+#include <torch/torch.h>
+
+#include "manyworlds/nn/mlp.h"
+
+namespace manyworlds::nn {
+
+// log|d tanh(u)/du| summed over the last dimension: (..., A) -> (...).
+torch::Tensor TanhLogAbsDetJacobian(const torch::Tensor& u);
+
+// log N(u; mean, exp(log_std)^2) summed over the last dimension.
+torch::Tensor DiagGaussianLogProb(const torch::Tensor& u, const torch::Tensor& mean,
+                                  const torch::Tensor& log_std);
+
+// Maps raw values to [min, max] through tanh (smooth, keeps gradients).
+torch::Tensor BoundLogStd(const torch::Tensor& raw, double log_std_min, double log_std_max);
+
+struct SquashedSample {
+  torch::Tensor action;    // (B, A), tanh(u)
+  torch::Tensor log_prob;  // (B), log-density of action
+};
+
+// Reparameterised sample (u = mean + std * eps, differentiable in mean and
+// log_std) with its log-probability.
+SquashedSample SampleSquashedGaussian(const torch::Tensor& mean, const torch::Tensor& log_std,
+                                      c10::optional<at::Generator> generator = c10::nullopt);
+
+struct GaussianPolicyOptions {
+  int64_t obs_dim = 0;
+  int64_t action_dim = 0;
+  int64_t hidden_dim = 400;
+  int64_t num_layers = 3;
+  double log_std_min = -20.0;
+  double log_std_max = 2.0;
+};
+
+struct PolicyOutput {
+  torch::Tensor mean;     // (B, A), mean of the pre-tanh Gaussian
+  torch::Tensor log_std;  // (B, A), already bounded
+};
+
+class GaussianPolicyImpl : public torch::nn::Module {
+ public:
+  // Throws ConfigError on bad dims or log_std_min >= log_std_max.
+  explicit GaussianPolicyImpl(const GaussianPolicyOptions& options,
+                              c10::optional<at::Generator> generator = c10::nullopt);
+
+  // obs: (B, obs_dim).
+  PolicyOutput forward(const torch::Tensor& obs) { return Forward(obs, trunk_->params()); }
+  PolicyOutput Forward(const torch::Tensor& obs, at::ArrayRef<torch::Tensor> params) const;
+  SquashedSample Sample(const torch::Tensor& obs, c10::optional<at::Generator> generator);
+  // tanh(mean): the evaluation action.
+  torch::Tensor MeanAction(const torch::Tensor& obs);
+
+  // The network holding all parameters (flat buffer, functional forward).
+  Mlp& trunk() { return trunk_; }
+  const Mlp& trunk() const { return trunk_; }
+  const GaussianPolicyOptions& options() const { return options_; }
+
+ private:
+  GaussianPolicyOptions options_;
+  Mlp trunk_{nullptr};
+};
+TORCH_MODULE(GaussianPolicy);
+
+}  // namespace manyworlds::nn
+
+#endif  // MANYWORLDS_NN_GAUSSIAN_POLICY_H_

@@ -1,0 +1,55 @@
+// Twin Q critics Q(s, a) with target copies, evaluated as one batched
+// product per layer (an EnsembleMlp of size 2 over concat(obs, action)).
+#ifndef MANYWORLDS_NN_TWIN_CRITIC_H_
+#define MANYWORLDS_NN_TWIN_CRITIC_H_
+
+#include <cstdint>
+
+#include <torch/torch.h>
+
+#include "manyworlds/nn/mlp.h"
+
+namespace manyworlds::nn {
+
+struct TwinCriticOptions {
+  int64_t obs_dim = 0;
+  int64_t action_dim = 0;
+  int64_t hidden_dim = 400;
+  int64_t num_layers = 3;
+};
+
+class TwinCriticImpl : public torch::nn::Module {
+ public:
+  // The target starts as a copy of the online critics.
+  explicit TwinCriticImpl(const TwinCriticOptions& options,
+                          c10::optional<at::Generator> generator = c10::nullopt);
+
+  // obs (B, obs_dim), action (B, action_dim) -> (2, B), both online critics.
+  torch::Tensor forward(const torch::Tensor& obs, const torch::Tensor& action) {
+    return Q(obs, action, online_->params());
+  }
+  // With explicit parameters, e.g. online()->detached_params() for an actor
+  // loss that must not produce critic weight gradients.
+  torch::Tensor Q(const torch::Tensor& obs, const torch::Tensor& action,
+                  at::ArrayRef<torch::Tensor> params) const;
+  // Target critics; call under NoGradGuard / InferenceMode. (2, B).
+  torch::Tensor TargetQ(const torch::Tensor& obs, const torch::Tensor& action) const;
+  // target <- (1 - tau) target + tau online, one loop over the flat buffers.
+  void UpdateTarget(double tau);
+
+  EnsembleMlp& online() { return online_; }
+  const EnsembleMlp& online() const { return online_; }
+  EnsembleMlp& target() { return target_; }
+  const EnsembleMlp& target() const { return target_; }
+  const TwinCriticOptions& options() const { return options_; }
+
+ private:
+  TwinCriticOptions options_;
+  EnsembleMlp online_{nullptr};
+  EnsembleMlp target_{nullptr};
+};
+TORCH_MODULE(TwinCritic);
+
+}  // namespace manyworlds::nn
+
+#endif  // MANYWORLDS_NN_TWIN_CRITIC_H_

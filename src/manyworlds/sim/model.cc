@@ -1,0 +1,84 @@
+#include "manyworlds/sim/model.h"
+
+#include <cstring>
+#include <mutex>
+
+namespace manyworlds::sim {
+namespace {
+
+// mj_loadXML in MuJoCo 2.2.2 swaps the global error hooks while compiling,
+// so concurrent loads would race on them; serialise loading.
+std::mutex& LoadMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+struct VfsDeleter {
+  void operator()(mjVFS* vfs) const {
+    mj_deleteVFS(vfs);
+    delete vfs;
+  }
+};
+
+void AddFile(mjVFS* vfs, std::string_view name, std::string_view contents) {
+  const std::string n(name);
+  const int status = mj_makeEmptyFileVFS(vfs, n.c_str(), static_cast<int>(contents.size()));
+  if (status == 2) throw MujocoError("cannot load model: file '" + n + "' given twice");
+  if (status != 0) throw MujocoError("cannot load model: virtual file system full at '" + n + "'");
+  const int index = mj_findFileVFS(vfs, n.c_str());
+  std::memcpy(vfs->filedata[index], contents.data(), contents.size());
+}
+
+}  // namespace
+
+ModelPtr LoadModelFromString(std::string_view xml, std::span<const VirtualFile> files,
+                             std::string_view main_name) {
+  InstallMujocoHandlers();
+  // mjVFS holds fixed-size name tables (~2 MB): keep it off the stack.
+  std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
+  mj_defaultVFS(vfs.get());
+  AddFile(vfs.get(), main_name, xml);
+  for (const VirtualFile& file : files) AddFile(vfs.get(), file.name, file.contents);
+
+  char error[1024] = "";
+  ModelPtr model;
+  {
+    std::lock_guard<std::mutex> lock(LoadMutex());
+    model.reset(mj_loadXML(std::string(main_name).c_str(), vfs.get(), error, sizeof(error)));
+  }
+  if (!model) {
+    throw MujocoError("cannot load model '" + std::string(main_name) + "': " +
+                      (error[0] ? error : "unknown MuJoCo error"));
+  }
+  return model;
+}
+
+ModelPtr LoadModelFromFile(const std::string& path) {
+  InstallMujocoHandlers();
+  char error[1024] = "";
+  ModelPtr model;
+  const bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".mjb") == 0;
+  {
+    std::lock_guard<std::mutex> lock(LoadMutex());
+    if (binary) {
+      model.reset(mj_loadModel(path.c_str(), nullptr));
+    } else {
+      model.reset(mj_loadXML(path.c_str(), nullptr, error, sizeof(error)));
+    }
+  }
+  if (!model) {
+    throw MujocoError("cannot load model file '" + path + "': " +
+                      (error[0] ? error : "unreadable or invalid file"));
+  }
+  return model;
+}
+
+DataPtr MakeData(const mjModel* model) {
+  InstallMujocoHandlers();
+  if (model == nullptr) throw MujocoError("MakeData: model is null");
+  DataPtr data(mj_makeData(model));
+  if (!data) throw MujocoError("MakeData: mj_makeData failed (out of memory?)");
+  return data;
+}
+
+}  // namespace manyworlds::sim

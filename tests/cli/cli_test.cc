@@ -1,0 +1,191 @@
+// Runs the built `manyworlds` binary (MANYWORLDS_CLI_PATH) as a user would.
+#include <sys/wait.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "manyworlds/config/yaml.h"
+
+namespace manyworlds {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+fs::path ScratchDir() {
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  fs::path dir = fs::temp_directory_path() /
+                 ("manyworlds_cli_test_" + std::to_string(getpid()) + "_" + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs `manyworlds <args>` in `cwd`, capturing stdout and stderr separately.
+RunResult RunCli(const std::string& args, const fs::path& cwd = fs::temp_directory_path()) {
+  // one file per test process: ctest -j runs the tests side by side
+  const fs::path err_file =
+      fs::temp_directory_path() / ("manyworlds_cli_stderr_" + std::to_string(getpid()) + ".txt");
+  const std::string command = "cd '" + cwd.string() + "' && '" + MANYWORLDS_CLI_PATH + "' " +
+                              args + " 2>'" + err_file.string() + "'";
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.out.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.err = Slurp(err_file);
+  fs::remove(err_file);
+  return result;
+}
+
+bool IsOneErrorLine(const std::string& err) {
+  return err.rfind("error: ", 0) == 0 && err.find('\n') == err.size() - 1;
+}
+
+TEST(CliTest, HelpExitsZeroEverywhere) {
+  for (const char* args : {"--help", "envs --help", "rollout --help", "check-env --help",
+                           "bench --help", "bench env --help", "demo --help"}) {
+    const RunResult r = RunCli(args);
+    EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
+  }
+}
+
+TEST(CliTest, EnvsListsTheClassicSuite) {
+  const RunResult r = RunCli("envs --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto envs = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(envs.is_array());
+  bool found = false;
+  for (const auto& e : envs) {
+    if (e["id"] != "cartpole") continue;
+    found = true;
+    EXPECT_EQ(e["family"], "classic");
+    EXPECT_TRUE(e["max_episode_steps"].is_number_integer());
+    EXPECT_FALSE(e["options"].empty());
+    EXPECT_TRUE(e["options"][0].contains("default"));
+  }
+  EXPECT_TRUE(found);
+  EXPECT_EQ(RunCli("envs").exit_code, 0);
+}
+
+TEST(CliTest, UnknownEnvSuggestsTheNearestId) {
+  const RunResult r = RunCli("rollout --env cartpol");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+  EXPECT_NE(r.err.find("did you mean 'cartpole'"), std::string::npos) << r.err;
+  EXPECT_EQ(RunCli("check-env --env cartpol").exit_code, 2);
+  EXPECT_EQ(RunCli("bench env --env cartpol").exit_code, 2);
+}
+
+TEST(CliTest, BadInputIsAUsageError) {
+  for (const char* args :
+       {"rollout --env bandit --option n_armz=3", "rollout --env bandit --option n_arms",
+        "rollout --env bandit --option n_arms=many", "rollout --env cartpole --policy scripted",
+        "rollout --env cartpole --episodes 0", "rollout --env cartpole --seed -1",
+        "rollout --env cartpole --frobnicate",
+        "rollout", "frobnicate", "", "bench", "demo nonexistent.yaml",
+        "demo --out x episdoes=3", "demo --out x episodes=ten", "demo --out x envs=[cartpol]"}) {
+    const RunResult r = RunCli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
+    EXPECT_TRUE(r.out.empty()) << args;
+  }
+  const RunResult option = RunCli("rollout --env bandit --option n_armz=3");
+  EXPECT_NE(option.err.find("did you mean 'n_arms'"), std::string::npos) << option.err;
+  EXPECT_NE(RunCli("rollout --env cartpole --policy scripted").err.find("allowed: random"),
+            std::string::npos);
+  EXPECT_NE(RunCli("demo --out x episdoes=3").err.find("did you mean 'episodes'"),
+            std::string::npos);
+}
+
+TEST(CliTest, RolloutJsonIsByteIdenticalAcrossRuns) {
+  const std::string args =
+      "rollout --env point-nav --episodes 3 --seed 5 --task-seed 7 --option max_episode_steps=50 "
+      "--json";
+  const RunResult a = RunCli(args);
+  const RunResult b = RunCli(args);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.out, b.out);
+  const auto summary = nlohmann::json::parse(a.out);
+  ASSERT_EQ(summary["episodes"].size(), 3u);
+  EXPECT_EQ(summary["episodes"][0]["length"], 50);
+  EXPECT_TRUE(summary.contains("mean_return"));
+  EXPECT_TRUE(summary.contains("success_rate"));
+  EXPECT_NE(RunCli("rollout --env point-nav --episodes 3 --seed 6 --json").out, a.out);
+}
+
+TEST(CliTest, CheckEnvPassesOnCartpole) {
+  const RunResult r = RunCli("check-env --env cartpole");
+  EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("checks passed"), std::string::npos);
+  const RunResult j = RunCli("check-env --env cartpole --json");
+  EXPECT_EQ(j.exit_code, 0);
+  EXPECT_NO_THROW(nlohmann::json::parse(j.out));
+}
+
+TEST(CliTest, BenchReportsStepsPerSecond) {
+  const RunResult r =
+      RunCli("bench env --env cartpole --num-envs 2 --steps 2000 --repeats 2 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["steps_per_s"].get<double>(), 0.0);
+  EXPECT_EQ(j["samples"].size(), 2u);
+}
+
+TEST(CliTest, DemoWritesReloadableResults) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "demo.yaml") << "episodes: 2\nenvs: [cartpole, bandit]\nout_dir: out\n";
+  const RunResult r = RunCli("demo demo.yaml seed=3 +unused=1", dir);
+  EXPECT_EQ(r.exit_code, 2) << r.err;  // '+' adds a key the demo does not know
+  EXPECT_NE(r.err.find("unknown key 'unused'"), std::string::npos) << r.err;
+
+  const RunResult ok = RunCli("demo demo.yaml seed=3 task_seed=4", dir);
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.out.find("cartpole"), std::string::npos);
+  for (const char* name : {"config.yaml", "results.json", "results.csv"}) {
+    EXPECT_TRUE(fs::exists(dir / "out" / name)) << name;
+  }
+  const auto config = LoadYamlFile(dir / "out" / "config.yaml");
+  EXPECT_EQ(config["seed"], 3);
+  EXPECT_EQ(config["task_seed"], 4);
+  EXPECT_EQ(config["episodes"], 2);
+  EXPECT_EQ(config["envs"], nlohmann::json::parse(R"(["cartpole", "bandit"])"));
+  const auto results = nlohmann::json::parse(Slurp(dir / "out" / "results.json"));
+  EXPECT_EQ(results["results"].size(), 2u);
+  EXPECT_EQ(results["config"], config);
+  const std::string csv = Slurp(dir / "out" / "results.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 3);
+
+  // the resolved config reruns as is, and --out wins over out_dir
+  const RunResult again = RunCli("demo out/config.yaml --out out2", dir);
+  ASSERT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_EQ(LoadYamlFile(dir / "out2" / "config.yaml")["seed"], 3);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace manyworlds

@@ -1,0 +1,265 @@
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/gaussian_policy.h"
+#include "manyworlds/nn/mlp.h"
+#include "manyworlds/nn/twin_critic.h"
+
+namespace manyworlds::nn {
+namespace {
+
+MlpOptions Small(int64_t in, int64_t out, int64_t ensemble = 1) {
+  MlpOptions o;
+  o.input_dim = in;
+  o.output_dim = out;
+  o.hidden_dim = 16;
+  o.num_layers = 2;
+  o.ensemble_size = ensemble;
+  return o;
+}
+
+// Reference MLP with the given weights ([in, out] layout) on torch::nn::Linear.
+torch::Tensor LinearStack(const torch::Tensor& x, const std::vector<torch::Tensor>& params) {
+  torch::Tensor h = x;
+  for (size_t i = 0; i < params.size(); i += 2) {
+    h = torch::nn::functional::linear(h, params[i].t(), params[i + 1].reshape({-1}));
+    if (i + 2 < params.size()) h = torch::relu(h);
+  }
+  return h;
+}
+
+TEST(MlpTest, ShapesAndParameterCount) {
+  Mlp mlp(Small(5, 3));
+  EXPECT_EQ(mlp->num_params(), 5 * 16 + 16 + 16 * 16 + 16 + 16 * 3 + 3);
+  EXPECT_EQ(mlp->params().size(), 6u);
+  EXPECT_EQ(mlp->parameters().size(), 6u);
+  EXPECT_EQ(mlp->forward(torch::randn({7, 5})).sizes(), torch::IntArrayRef({7, 3}));
+}
+
+TEST(MlpTest, ParametersAreViewsOfOneFlatBuffer) {
+  Mlp mlp(Small(4, 2));
+  const float* base = mlp->flat().data_ptr<float>();
+  int64_t offset = 0;
+  for (const torch::Tensor& p : mlp->params()) {
+    EXPECT_TRUE(p.requires_grad());
+    EXPECT_TRUE(p.is_leaf());
+    EXPECT_EQ(p.data_ptr<float>(), base + offset);
+    EXPECT_EQ(p.grad().data_ptr<float>(), mlp->flat_grad().data_ptr<float>() + offset);
+    offset += p.numel();
+  }
+  EXPECT_EQ(offset, mlp->num_params());
+  // Writing the flat buffer changes the parameters, and the other way round.
+  mlp->flat().fill_(0.5f);
+  EXPECT_EQ(mlp->params()[2].view(-1)[3].item<float>(), 0.5f);
+  {
+    torch::NoGradGuard no_grad;
+    mlp->params()[1].fill_(-2.0f);
+  }
+  EXPECT_EQ(mlp->flat()[mlp->params()[0].numel()].item<float>(), -2.0f);
+}
+
+TEST(MlpTest, BackwardAccumulatesIntoFlatGrad) {
+  Mlp mlp(Small(3, 2));
+  torch::Tensor x = torch::randn({6, 3});
+  mlp->ZeroGrad();
+  mlp->forward(x).square().sum().backward();
+  // Reference gradients from autograd on independent copies.
+  std::vector<torch::Tensor> copies;
+  for (const torch::Tensor& p : mlp->params()) copies.push_back(p.detach().clone().requires_grad_());
+  mlp->Forward(x, copies).square().sum().backward();
+  std::vector<torch::Tensor> grads;
+  for (const torch::Tensor& c : copies) grads.push_back(c.grad().reshape({-1}));
+  EXPECT_TRUE(torch::allclose(mlp->flat_grad(), torch::cat(grads), 1e-5, 1e-6));
+  // A second backward accumulates; ZeroGrad clears (and survives zero_grad).
+  mlp->forward(x).square().sum().backward();
+  EXPECT_TRUE(torch::allclose(mlp->flat_grad(), 2 * torch::cat(grads), 1e-5, 1e-6));
+  mlp->zero_grad(/*set_to_none=*/true);
+  mlp->ZeroGrad();
+  EXPECT_EQ(mlp->flat_grad().abs().sum().item<float>(), 0.0f);
+  mlp->forward(x).square().sum().backward();
+  EXPECT_TRUE(torch::allclose(mlp->flat_grad(), torch::cat(grads), 1e-5, 1e-6));
+}
+
+TEST(MlpTest, FunctionalForwardEqualsModuleForwardAndLinearReference) {
+  torch::manual_seed(3);
+  Mlp mlp(Small(5, 3));
+  torch::Tensor x = torch::randn({9, 5});
+  torch::Tensor y = mlp->forward(x);
+  EXPECT_TRUE(torch::equal(y, mlp->Forward(x, mlp->params())));
+  EXPECT_TRUE(torch::equal(y, mlp->Forward(x, mlp->detached_params())));
+  EXPECT_TRUE(torch::allclose(y, LinearStack(x, mlp->detached_params()), 1e-5, 1e-6));
+  // Fast weights: a functional step differs from the module and is differentiable.
+  std::vector<torch::Tensor> fast;
+  for (const torch::Tensor& p : mlp->params()) fast.push_back(p - 0.1 * torch::ones_like(p));
+  torch::Tensor y_fast = mlp->Forward(x, fast);
+  EXPECT_FALSE(torch::allclose(y, y_fast));
+  EXPECT_TRUE(y_fast.requires_grad());
+}
+
+TEST(MlpTest, DetachedParamsGiveInputGradsButNoWeightGrads) {
+  Mlp mlp(Small(4, 1));
+  torch::Tensor x = torch::randn({3, 4}, torch::requires_grad());
+  mlp->ZeroGrad();
+  mlp->Forward(x, mlp->detached_params()).sum().backward();
+  EXPECT_TRUE(x.grad().defined());
+  EXPECT_GT(x.grad().abs().sum().item<float>(), 0.0f);
+  EXPECT_EQ(mlp->flat_grad().abs().sum().item<float>(), 0.0f);
+}
+
+TEST(MlpTest, OrthogonalInitAndZeroBias) {
+  Mlp mlp(Small(20, 4));
+  const torch::Tensor w0 = mlp->params()[0];  // (20, 16): orthonormal columns
+  EXPECT_TRUE(torch::allclose(w0.t().mm(w0), torch::eye(16), 1e-4, 1e-5));
+  const torch::Tensor w2 = mlp->params()[4];  // (16, 4)
+  EXPECT_TRUE(torch::allclose(w2.t().mm(w2), torch::eye(4), 1e-4, 1e-5));
+  EXPECT_EQ(mlp->params()[1].abs().sum().item<float>(), 0.0f);
+}
+
+TEST(MlpTest, SameGeneratorSeedSameWeights) {
+  Mlp a(Small(3, 2), at::detail::createCPUGenerator(7));
+  Mlp b(Small(3, 2), at::detail::createCPUGenerator(7));
+  Mlp c(Small(3, 2), at::detail::createCPUGenerator(8));
+  EXPECT_TRUE(torch::equal(a->flat(), b->flat()));
+  EXPECT_FALSE(torch::equal(a->flat(), c->flat()));
+}
+
+TEST(MlpTest, SaveLoadCopiesIntoTheFlatBuffer) {
+  Mlp a(Small(3, 2));
+  Mlp b(Small(3, 2));
+  std::stringstream stream;
+  torch::save(a, stream);
+  const float* before = b->flat().data_ptr<float>();
+  torch::load(b, stream);
+  EXPECT_EQ(b->flat().data_ptr<float>(), before);
+  EXPECT_EQ(b->params()[0].data_ptr<float>(), before);
+  EXPECT_TRUE(torch::equal(a->flat(), b->flat()));
+}
+
+TEST(MlpTest, RejectsBadOptions) {
+  EXPECT_THROW(Mlp(Small(0, 2)), ConfigError);
+  MlpOptions o = Small(2, 2);
+  o.num_layers = -1;
+  EXPECT_THROW(Mlp{o}, ConfigError);
+}
+
+TEST(EnsembleMlpTest, BatchedProductEqualsSeparateLinearStacks) {
+  torch::manual_seed(5);
+  EnsembleMlp ens(Small(6, 1, /*ensemble=*/2));
+  torch::Tensor x = torch::randn({11, 6});
+  torch::Tensor y = ens->forward(x);  // (2, 11, 1)
+  ASSERT_EQ(y.sizes(), torch::IntArrayRef({2, 11, 1}));
+  for (int64_t e = 0; e < 2; ++e) {
+    std::vector<torch::Tensor> member;
+    for (const torch::Tensor& p : ens->detached_params()) member.push_back(p[e]);
+    EXPECT_TRUE(torch::allclose(y[e], LinearStack(x, member), 1e-5, 1e-6)) << "member " << e;
+  }
+  // Per-member inputs.
+  torch::Tensor xs = torch::randn({2, 4, 6});
+  torch::Tensor ys = ens->forward(xs);
+  for (int64_t e = 0; e < 2; ++e) {
+    std::vector<torch::Tensor> member;
+    for (const torch::Tensor& p : ens->detached_params()) member.push_back(p[e]);
+    EXPECT_TRUE(torch::allclose(ys[e], LinearStack(xs[e], member), 1e-5, 1e-6));
+  }
+}
+
+TEST(TwinCriticTest, TargetStartsEqualAndFollowsByPolyak) {
+  TwinCriticOptions o;
+  o.obs_dim = 3;
+  o.action_dim = 2;
+  o.hidden_dim = 8;
+  o.num_layers = 1;
+  TwinCritic critic(o);
+  EXPECT_TRUE(torch::equal(critic->online()->flat(), critic->target()->flat()));
+  EXPECT_NE(critic->online()->flat().data_ptr(), critic->target()->flat().data_ptr());
+  for (const torch::Tensor& p : critic->target()->params()) EXPECT_FALSE(p.requires_grad());
+  torch::Tensor obs = torch::randn({5, 3});
+  torch::Tensor act = torch::rand({5, 2});
+  torch::Tensor q = critic->forward(obs, act);
+  ASSERT_EQ(q.sizes(), torch::IntArrayRef({2, 5}));
+  {
+    torch::NoGradGuard no_grad;
+    EXPECT_TRUE(torch::allclose(q, critic->TargetQ(obs, act)));
+  }
+  const torch::Tensor old_target = critic->target()->flat().clone();
+  critic->online()->flat().add_(1.0f);
+  critic->UpdateTarget(0.25);
+  EXPECT_TRUE(torch::allclose(critic->target()->flat(), old_target + 0.25f, 1e-6, 1e-6));
+}
+
+// ---- squashed Gaussian -----------------------------------------------------
+
+TEST(SquashedGaussianTest, LogProbMatchesChangeOfVariablesDensity) {
+  torch::manual_seed(11);
+  const int64_t b = 64, a = 3;
+  torch::Tensor mean = torch::randn({b, a}) * 1.5;
+  torch::Tensor log_std = torch::rand({b, a}) * 2.0 - 1.5;
+  SquashedSample s = SampleSquashedGaussian(mean, log_std, at::detail::createCPUGenerator(1));
+  ASSERT_EQ(s.action.sizes(), torch::IntArrayRef({b, a}));
+  ASSERT_EQ(s.log_prob.sizes(), torch::IntArrayRef({b}));
+  // Density of a = tanh(u) in double: p(a) = N(atanh(a)) / (1 - a^2), with
+  // the Jacobian also checked by central differences of tanh.
+  torch::Tensor act = s.action.to(torch::kFloat64);
+  torch::Tensor u = torch::atanh(act);
+  torch::Tensor m = mean.to(torch::kFloat64), ls = log_std.to(torch::kFloat64);
+  torch::Tensor normal = (-0.5 * ((u - m) / ls.exp()).square() - ls -
+                          0.5 * std::log(2 * std::numbers::pi)).sum(-1);
+  torch::Tensor exact = normal - torch::log(1 - act.square()).sum(-1);
+  const double h = 1e-6;
+  torch::Tensor fd = (torch::tanh(u + h) - torch::tanh(u - h)) / (2 * h);
+  torch::Tensor numeric = normal - torch::log(fd).sum(-1);
+  // Samples where float tanh saturates lose the inverse; skip them.
+  torch::Tensor ok = (act.abs() < 0.999).all(-1);
+  ASSERT_GT(ok.sum().item<int64_t>(), b / 2);
+  torch::Tensor ours = s.log_prob.to(torch::kFloat64);
+  EXPECT_TRUE(torch::allclose(ours.masked_select(ok), exact.masked_select(ok), 1e-3, 2e-3));
+  EXPECT_TRUE(torch::allclose(ours.masked_select(ok), numeric.masked_select(ok), 1e-3, 2e-3));
+}
+
+TEST(SquashedGaussianTest, StableWhereTanhSaturates) {
+  // u = 12: 1 - tanh(u)^2 underflows to 0 in float; the stable form does not.
+  torch::Tensor u = torch::full({1, 1}, 12.0f);
+  const double expected = std::log(4.0) - 2 * 12.0 - 2 * std::log1p(std::exp(-24.0));
+  EXPECT_NEAR(TanhLogAbsDetJacobian(u).item<double>(), expected, 1e-4);
+  EXPECT_TRUE(std::isinf(torch::log(1 - torch::tanh(u).square()).item<float>()));
+  SquashedSample s = SampleSquashedGaussian(torch::full({4, 2}, 30.0f), torch::full({4, 2}, -5.0f));
+  EXPECT_TRUE(torch::isfinite(s.log_prob).all().item<bool>());
+}
+
+TEST(SquashedGaussianTest, LogProbIntegratesToOne) {
+  // 1-D density over (-1, 1) by the midpoint rule.
+  const int n = 200000;
+  torch::Tensor a = (torch::arange(n, torch::kFloat64) + 0.5) * (2.0 / n) - 1.0;
+  torch::Tensor u = torch::atanh(a).unsqueeze(-1);
+  torch::Tensor mean = torch::full_like(u, 0.7), log_std = torch::full_like(u, -0.3);
+  torch::Tensor logp = DiagGaussianLogProb(u, mean, log_std) - TanhLogAbsDetJacobian(u);
+  EXPECT_NEAR((logp.exp().sum() * (2.0 / n)).item<double>(), 1.0, 1e-3);
+}
+
+TEST(GaussianPolicyTest, LogStdBoundedAndMeanActionDeterministic) {
+  GaussianPolicyOptions o;
+  o.obs_dim = 4;
+  o.action_dim = 2;
+  o.hidden_dim = 8;
+  o.num_layers = 1;
+  GaussianPolicy policy(o);
+  // Huge inputs push the raw log-std to both tanh tails.
+  torch::Tensor obs = torch::randn({50, 4}) * 1e4;
+  PolicyOutput out = policy->forward(obs);
+  EXPECT_GE(out.log_std.min().item<double>(), -20.0);
+  EXPECT_LE(out.log_std.max().item<double>(), 2.0);
+  EXPECT_TRUE(torch::equal(policy->MeanAction(obs), torch::tanh(out.mean)));
+  SquashedSample s = policy->Sample(obs.narrow(0, 0, 5) * 1e-4, c10::nullopt);
+  EXPECT_LE(s.action.abs().max().item<float>(), 1.0f);
+  EXPECT_TRUE(s.log_prob.requires_grad());
+  EXPECT_EQ(BoundLogStd(torch::zeros({1}), -20, 2).item<float>(), -9.0f);
+}
+
+}  // namespace
+}  // namespace manyworlds::nn
