@@ -62,7 +62,7 @@ class EditedToy : public ToyEnv {
  public:
   explicit EditedToy(int what) {
     if (what == 0) mutable_spec().info_fields = {"success", "dist"};
-    if (what == 1) mutable_spec().env_obs_space = Space::Box(-2.0f, 2.0f, {2});
+    if (what == 1) mutable_spec().env_obs_space = Space::Box(-2.0f, 2.0f, {3});
   }
 };
 
@@ -321,6 +321,23 @@ TEST(MultiEnvWrapperTest, MismatchedMembersAreConfigErrorsNamingTheMismatch) {
   EXPECT_THROW(make(Toy(true)), ConfigError);
   EXPECT_THROW(MultiEnv(std::vector<std::unique_ptr<Env>>{}), ConfigError);
   EXPECT_THROW(make(nullptr), ConfigError);
+}
+
+// A ToyEnv whose observations are bounded, for the union of member spaces.
+class BoundedToy : public ToyEnv {
+ public:
+  BoundedToy(float low, float high) {
+    mutable_spec().env_obs_space = Space::Box({low, 0.0f}, {high, 1.0f}, {2});
+  }
+};
+
+TEST(MultiEnvWrapperTest, ObservationSpaceIsTheUnionOfTheMembers) {
+  std::vector<std::unique_ptr<Env>> envs;
+  envs.push_back(std::make_unique<BoundedToy>(-1.0f, 2.0f));
+  envs.push_back(std::make_unique<BoundedToy>(-3.0f, 1.0f));
+  MultiEnv env(std::move(envs));
+  EXPECT_EQ(env.spec().env_obs_space.low(), (std::vector<float>{-3.0f, 0.0f}));
+  EXPECT_EQ(env.spec().env_obs_space.high(), (std::vector<float>{2.0f, 1.0f}));
 }
 
 TEST(MultiEnvWrapperTest, RejectsBadTaskStates) {

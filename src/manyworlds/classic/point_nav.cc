@@ -20,6 +20,7 @@ EnvSpec PointNavEnv::MakeSpec(const Config& config) {
   spec.task_obs_space = Space::Box(-static_cast<float>(r), static_cast<float>(r), {2});
   spec.info_fields = {"success", "distance"};
   spec.max_episode_steps = config.horizon;
+  spec.uses_env_seed = false;  // fixed start, deterministic moves
   return spec;
 }
 

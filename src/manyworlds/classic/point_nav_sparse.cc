@@ -19,6 +19,7 @@ EnvSpec PointNavSparseEnv::MakeSpec(const Config& config) {
   spec.task_obs_space = Space::Box({-1.0f, 0.0f}, {1.0f, 1.0f}, {2});
   spec.info_fields = {"success", "distance"};
   spec.max_episode_steps = config.horizon;
+  spec.uses_env_seed = false;  // fixed start, deterministic moves
   return spec;
 }
 

@@ -36,6 +36,7 @@ EnvSpec TwoGoalMazeEnv::MakeSpec(const Config& config) {
   spec.task_obs_space = Space::Box(0.0f, 1.0f, {1});
   spec.info_fields = {"success"};
   spec.max_episode_steps = config.horizon;
+  spec.uses_env_seed = false;  // fixed start, deterministic moves
   return spec;
 }
 

@@ -43,9 +43,19 @@ struct EnvSpec {
   std::vector<std::string> info_fields;
   // Episodes are truncated after this many steps; 0 means no limit.
   int64_t max_episode_steps = 0;
+  // False for envs whose dynamics and initial states are deterministic given
+  // the task (point navigation, the Sawyer tasks): the env seed then has no
+  // effect, and the env checker verifies exactly that instead.
+  bool uses_env_seed = true;
 
   // Index of an info field, or -1 if the env does not report it.
   int InfoIndex(std::string_view name) const;
+};
+
+// A named group of task states, e.g. one benchmark task and its variations.
+struct TaskGroup {
+  std::string name;
+  std::vector<TaskState> states;
 };
 
 struct Observation {
@@ -120,6 +130,11 @@ class Env {
 
   // Changes the episode limit (0: none). The running episode ends.
   virtual void SetMaxEpisodeSteps(int64_t max_episode_steps);
+
+  // The fixed task states an evaluation should cover, in groups (a
+  // benchmark: one group per task holding its variations). Empty for envs
+  // whose tasks come from a continuous distribution.
+  virtual std::vector<TaskGroup> EvaluationTasks() const { return {}; }
 
   int64_t elapsed_steps() const { return elapsed_steps_; }
   // True before the first Reset, after SetTaskState, and once an episode

@@ -346,6 +346,16 @@ std::string Checker::DifferentEnvSeedsDiffer() {
   const Trajectory& a = Baseline();
   auto env = MakeSeeded(options_.seed + 1, options_.task_seed);
   const Trajectory b = RunTrajectory(*env, action_seed(), options_.steps, false);
+  if (!spec_.uses_env_seed) {
+    // Declared deterministic: a difference means hidden randomness.
+    const std::string diff = FirstDifference(a, b);
+    if (!diff.empty()) {
+      Fail("the env declares uses_env_seed = false, but env seeds " +
+           std::to_string(options_.seed) + " and " + std::to_string(options_.seed + 1) +
+           " give different trajectories: " + diff);
+    }
+    return "env seed has no effect, as declared (uses_env_seed = false)";
+  }
   if (FirstDifference(a, b).empty()) {
     Fail("env seeds " + std::to_string(options_.seed) + " and " +
          std::to_string(options_.seed + 1) + " give identical trajectories: Seed has no effect");

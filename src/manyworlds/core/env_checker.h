@@ -42,7 +42,9 @@ struct CheckReport {
 // the env is recorded as a failed check). Checks:
 //  - spaces are well formed, info fields unique;
 //  - same seeds give identical trajectories (obs, reward, flags, info,
-//    bitwise) on two instances; different env or task seeds differ;
+//    bitwise) on two instances; different env or task seeds differ (an env
+//    whose spec says uses_env_seed = false must instead give identical
+//    trajectories for different env seeds);
 //  - every observation lies in its space, rewards and info are finite;
 //  - task states round-trip through JSON text exactly and reproduce the same
 //    trajectory on another instance; a foreign or malformed state is rejected

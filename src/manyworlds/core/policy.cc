@@ -1,5 +1,6 @@
 #include "manyworlds/core/policy.h"
 
+#include <algorithm>
 #include <string>
 
 #include "manyworlds/core/error.h"
@@ -80,6 +81,64 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
     summary.success_rate = episodes > 0 ? static_cast<double>(successes) / episodes : 0.0;
   }
   return summary;
+}
+
+std::vector<GroupRollout> RolloutTaskGroups(Env& env, Policy& policy,
+                                            const std::vector<TaskGroup>& groups, int per_group) {
+  std::vector<GroupRollout> results;
+  results.reserve(groups.size());
+  for (const TaskGroup& group : groups) {
+    const size_t count = per_group <= 0 ? group.states.size()
+                                        : std::min(group.states.size(),
+                                                   static_cast<size_t>(per_group));
+    GroupRollout result{group.name, {}};
+    for (size_t i = 0; i < count; ++i) {
+      env.SetTaskState(group.states[i]);
+      RolloutSummary one = Rollout(env, policy, 1);
+      result.summary.episodes.push_back(one.episodes.front());
+    }
+    result.summary = MergeGroups({result});
+    results.push_back(std::move(result));
+  }
+  return results;
+}
+
+RolloutSummary MergeGroups(const std::vector<GroupRollout>& groups) {
+  RolloutSummary merged;
+  double total_return = 0.0, total_length = 0.0;
+  int successes = 0;
+  bool has_success = true;
+  for (const GroupRollout& group : groups) {
+    for (const EpisodeStats& e : group.summary.episodes) {
+      merged.episodes.push_back(e);
+      total_return += e.episode_return;
+      total_length += static_cast<double>(e.length);
+      successes += e.success > 0 ? 1 : 0;
+      has_success = has_success && e.success >= 0;
+    }
+  }
+  const double n = static_cast<double>(merged.episodes.size());
+  if (n > 0) {
+    merged.mean_return = total_return / n;
+    merged.mean_length = total_length / n;
+  }
+  merged.success_rate = has_success && n > 0 ? successes / n : -1.0;
+  return merged;
+}
+
+nlohmann::json GroupsToJson(const std::vector<GroupRollout>& groups) {
+  nlohmann::json json = MergeGroups(groups).ToJson();
+  nlohmann::json per_task = nlohmann::json::array();
+  for (const GroupRollout& group : groups) {
+    const RolloutSummary& s = group.summary;
+    per_task.push_back(
+        {{"task", group.name},
+         {"episodes", s.episodes.size()},
+         {"mean_return", s.mean_return},
+         {"success_rate", s.success_rate >= 0 ? nlohmann::json(s.success_rate) : nlohmann::json()}});
+  }
+  json["per_task"] = std::move(per_task);
+  return json;
 }
 
 }  // namespace manyworlds

@@ -66,6 +66,22 @@ struct RolloutSummary {
 RolloutSummary Rollout(Env& env, Policy& policy, int episodes,
                        int64_t max_steps_per_episode = 100000);
 
+// Rollouts of one group of task states (e.g. one benchmark task).
+struct GroupRollout {
+  std::string name;
+  RolloutSummary summary;
+};
+
+// For each group, one episode on each of its first `per_group` task states
+// (all of them if per_group <= 0), in order: SetTaskState, then Rollout.
+std::vector<GroupRollout> RolloutTaskGroups(Env& env, Policy& policy,
+                                            const std::vector<TaskGroup>& groups, int per_group);
+
+// All episodes of the groups as one summary, with "per_task" added to its
+// JSON: [{"task", "episodes", "mean_return", "success_rate"}] in group order.
+RolloutSummary MergeGroups(const std::vector<GroupRollout>& groups);
+nlohmann::json GroupsToJson(const std::vector<GroupRollout>& groups);
+
 }  // namespace manyworlds
 
 #endif  // MANYWORLDS_CORE_POLICY_H_

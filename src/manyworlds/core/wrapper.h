@@ -24,6 +24,8 @@ class Wrapper : public Env {
   void Seed(uint64_t seed) override;
   void SeedTask(uint64_t seed) override;
   void SetMaxEpisodeSteps(int64_t max_episode_steps) override;
+  // The inner env's: wrappers pass task states through unchanged.
+  std::vector<TaskGroup> EvaluationTasks() const override { return inner_->EvaluationTasks(); }
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;

@@ -24,30 +24,33 @@ EnvSpec MakeSpec(const std::vector<std::unique_ptr<Env>>& envs, std::string id) 
                       const std::string& expected) {
     throw ConfigError("MultiEnv: env " + std::to_string(i) + " ('" + envs[i]->id() + "') has " +
                       what + " " + got + ", but env 0 ('" + first.id + "') has " + expected +
-                      "; all envs must share action space, env observation space and info "
-                      "fields");
+                      "; all envs must share action space, env observation space shape and "
+                      "info fields");
   };
   EnvSpec spec;
   std::string ids;
   int64_t limit = 0;
   bool unlimited = false;
+  bool uses_env_seed = false;
   for (size_t i = 0; i < envs.size(); ++i) {
     const EnvSpec& s = envs[i]->spec();
     if (!(s.action_space == first.action_space)) {
       mismatch(i, "action space", s.action_space.ToString(), first.action_space.ToString());
     }
-    if (!(s.env_obs_space == first.env_obs_space)) {
-      // ToString summarises per-element bounds; the JSON shows any difference.
-      const bool same_text = s.env_obs_space.ToString() == first.env_obs_space.ToString();
-      mismatch(i, "env observation space",
-               same_text ? s.env_obs_space.ToJson().dump() : s.env_obs_space.ToString(),
-               same_text ? first.env_obs_space.ToJson().dump() : first.env_obs_space.ToString());
+    const bool same_kind = s.env_obs_space.kind() == first.env_obs_space.kind() &&
+                           s.env_obs_space.shape() == first.env_obs_space.shape();
+    const bool same_discrete = !first.env_obs_space.is_discrete() ||
+                               s.env_obs_space.n() == first.env_obs_space.n();
+    if (!same_kind || !same_discrete) {
+      mismatch(i, "env observation space", s.env_obs_space.ToString(),
+               first.env_obs_space.ToString());
     }
     if (s.info_fields != first.info_fields) {
       mismatch(i, "info fields", JoinFields(s.info_fields), JoinFields(first.info_fields));
     }
     ids += (i == 0 ? "" : ",") + s.id;
     unlimited = unlimited || s.max_episode_steps == 0;
+    uses_env_seed = uses_env_seed || s.uses_env_seed;
     limit = std::max(limit, s.max_episode_steps);
   }
   spec.id = id.empty() ? "multi-env(" + ids + ")" : std::move(id);
@@ -55,9 +58,24 @@ EnvSpec MakeSpec(const std::vector<std::unique_ptr<Env>>& envs, std::string id) 
       "one of " + std::to_string(envs.size()) + " envs, selected by the task: " + ids;
   spec.action_space = first.action_space;
   spec.env_obs_space = first.env_obs_space;
+  if (first.env_obs_space.is_box()) {
+    // Members may bound their observations differently (each Sawyer task has
+    // its own goal range): the union of the boxes holds every member's.
+    std::vector<float> low = first.env_obs_space.low();
+    std::vector<float> high = first.env_obs_space.high();
+    for (const auto& env : envs) {
+      const Space& box = env->spec().env_obs_space;
+      for (size_t j = 0; j < low.size(); ++j) {
+        low[j] = std::min(low[j], box.low()[j]);
+        high[j] = std::max(high[j], box.high()[j]);
+      }
+    }
+    spec.env_obs_space = Space::Box(std::move(low), std::move(high), first.env_obs_space.shape());
+  }
   spec.task_obs_space = Space::Discrete(static_cast<int64_t>(envs.size()));
   spec.info_fields = first.info_fields;
   spec.max_episode_steps = unlimited ? 0 : limit;
+  spec.uses_env_seed = uses_env_seed;
   return spec;
 }
 

@@ -1,9 +1,10 @@
 // MultiEnv: k different envs presented as one multi-task env whose task is
 // the env index (MTEnv's MultiEnvWrapper, built eagerly).
 //
-// All envs must share the action space, the env-observation space and the
-// info fields (same names, same order); they may differ in task observation
-// and episode limit. The agent sees the index only: task observation
+// All envs must share the action space, the kind and shape of the
+// env-observation space (Box bounds may differ: the combined space is their
+// union) and the info fields (same names, same order); they may differ in
+// task observation and episode limit. The agent sees the index only: task observation
 // Discrete(k). Each env keeps its own episode limit; spec().max_episode_steps
 // is the largest of them (0 if any env has none).
 //
@@ -31,7 +32,7 @@ class MultiEnv : public Env {
  public:
   // env_id: the combined env's id; empty gives "multi-env(<id 0>,<id 1>,...)".
   // Throws ConfigError if envs is empty, holds a null env, or two envs differ
-  // in action space, env-observation space or info fields (the message names
+  // in action space, env-observation space kind or shape, or info fields (the message names
   // the first mismatch).
   explicit MultiEnv(std::vector<std::unique_ptr<Env>> envs, std::string env_id = "");
 

@@ -30,6 +30,8 @@ class NTasksId : public NTasks {
   TaskIdEncoding encoding() const { return encoding_; }
   // Index of the current task; -1 before one is set.
   int task_index() const { return index_; }
+  // None: this wrapper's task states embed the inner ones in its own format.
+  std::vector<TaskGroup> EvaluationTasks() const override { return {}; }
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;
