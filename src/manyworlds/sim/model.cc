@@ -1,5 +1,6 @@
 #include "manyworlds/sim/model.h"
 
+#include <cstdio>
 #include <cstring>
 #include <mutex>
 
@@ -29,16 +30,53 @@ void AddFile(mjVFS* vfs, std::string_view name, std::string_view contents) {
   std::memcpy(vfs->filedata[index], contents.data(), contents.size());
 }
 
-}  // namespace
-
-ModelPtr LoadModelFromString(std::string_view xml, std::span<const VirtualFile> files,
-                             std::string_view main_name) {
-  InstallMujocoHandlers();
+std::unique_ptr<mjVFS, VfsDeleter> MakeVfs(std::string_view xml,
+                                           std::span<const VirtualFile> files,
+                                           std::string_view main_name) {
   // mjVFS holds fixed-size name tables (~2 MB): keep it off the stack.
   std::unique_ptr<mjVFS, VfsDeleter> vfs(new mjVFS);
   mj_defaultVFS(vfs.get());
   AddFile(vfs.get(), main_name, xml);
   for (const VirtualFile& file : files) AddFile(vfs.get(), file.name, file.contents);
+  return vfs;
+}
+
+}  // namespace
+
+void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const VirtualFile> files,
+                  std::string_view main_name, const std::string& path) {
+  InstallMujocoHandlers();
+  if (model == nullptr) throw MujocoError("SaveModelXml: model is null");
+  auto vfs = MakeVfs(xml, files, main_name);
+  const std::string temp = path + ".tmp";
+  char error[1024] = "";
+  {
+    std::lock_guard<std::mutex> lock(LoadMutex());
+    ModelPtr again(mj_loadXML(std::string(main_name).c_str(), vfs.get(), error, sizeof(error)));
+    if (!again) {
+      throw MujocoError("cannot save model '" + std::string(main_name) + "': it does not compile: " +
+                        error);
+    }
+    if (again->nq != model->nq || again->nbody != model->nbody || again->ngeom != model->ngeom) {
+      throw MujocoError("cannot save model '" + std::string(main_name) +
+                        "': the given model was not compiled from this document");
+    }
+    if (!mj_saveLastXML(temp.c_str(), model, error, sizeof(error))) {
+      std::remove(temp.c_str());
+      throw MujocoError("cannot write MJCF to '" + path + "': " +
+                        (error[0] ? error : "mj_saveLastXML failed"));
+    }
+  }
+  if (std::rename(temp.c_str(), path.c_str()) != 0) {
+    std::remove(temp.c_str());
+    throw MujocoError("cannot write MJCF to '" + path + "': rename failed");
+  }
+}
+
+ModelPtr LoadModelFromString(std::string_view xml, std::span<const VirtualFile> files,
+                             std::string_view main_name) {
+  InstallMujocoHandlers();
+  auto vfs = MakeVfs(xml, files, main_name);
 
   char error[1024] = "";
   ModelPtr model;

@@ -45,6 +45,14 @@ ModelPtr LoadModelFromString(std::string_view xml, std::span<const VirtualFile> 
 // MujocoError naming the path.
 ModelPtr LoadModelFromFile(const std::string& path);
 
+// Writes `model` as one self-contained MJCF file (includes expanded) to
+// `path`, atomically. MuJoCo can only save the model it compiled last, so
+// this compiles `xml` (with `files`) again and, under the loading lock,
+// saves it with the numeric values of `model` (which must come from the same
+// document; e.g. a copy with moved bodies). Throws MujocoError.
+void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const VirtualFile> files,
+                  std::string_view main_name, const std::string& path);
+
 // Allocates data for a model (non-null). Throws MujocoError.
 DataPtr MakeData(const mjModel* model);
 
