@@ -243,7 +243,11 @@ INSTANTIATE_TEST_SUITE_P(AllTasks, SawyerTaskTest,
 TEST(ManipulationSuiteTest, RegistersTasksInOrder) {
   Registry registry;
   RegisterManipulationSuite(registry);
-  EXPECT_EQ(registry.Ids(), (std::vector<std::string>{"reach", "push", "pick-place"}));
+  std::vector<std::string> tasks;
+  for (const auto& entry : registry.entries()) {
+    if (entry.family == "manipulation") tasks.push_back(entry.id);
+  }
+  EXPECT_EQ(tasks, ManipulationTaskIds());
   EXPECT_EQ(registry.Find("push").family, "manipulation");
   EXPECT_THROW(registry.Make("reach", {{"goal_visible", true}}), ConfigError);
   EXPECT_THROW(MakeScriptedPolicy("pick-plase"), ConfigError);

@@ -1,6 +1,11 @@
 #include "manyworlds/envs/all.h"
 
 #include "manyworlds/classic/classic.h"
+#include "manyworlds/core/error.h"
+#ifdef MANYWORLDS_HAS_MANIPULATION
+#include "manyworlds/manipulation/benchmark.h"
+#include "manyworlds/manipulation/manipulation.h"
+#endif
 
 namespace manyworlds {
 
@@ -9,8 +14,9 @@ const Registry& DefaultRegistry() {
   static const Registry registry = [] {
     Registry r;
     RegisterClassicSuite(r);
-    // ---- MANIPULATION SUITE: the lead adds RegisterManipulationSuite(r) here
-    // (and manyworlds::manipulation to PUBLIC_DEPS in CMakeLists.txt). ----
+#ifdef MANYWORLDS_HAS_MANIPULATION
+    RegisterManipulationSuite(r);
+#endif
     return r;
   }();
   return registry;
@@ -18,6 +24,40 @@ const Registry& DefaultRegistry() {
 
 std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options) {
   return DefaultRegistry().Make(id, options);
+}
+
+std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
+#ifdef MANYWORLDS_HAS_MANIPULATION
+  return manipulation::MakeScriptedPolicyFor(env);
+#else
+  throw ConfigError("no scripted policy for env '" + env.id() +
+                    "': this build has no manipulation suite (MuJoCo was not found)");
+#endif
+}
+
+void SaveTaskXml(const Env& env, const std::string& path) {
+#ifdef MANYWORLDS_HAS_MANIPULATION
+  if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
+    task->SaveVariationXml(path);
+    return;
+  }
+#else
+  (void)path;
+#endif
+  throw ConfigError("env '" + env.id() +
+                    "' has no MuJoCo model to export; export-xml works for the manipulation "
+                    "tasks and benchmarks");
+}
+
+MujocoScene ActiveMujocoScene(const Env& env) {
+#ifdef MANYWORLDS_HAS_MANIPULATION
+  if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
+    return {task->model(), task->data()};
+  }
+#endif
+  throw ConfigError("env '" + env.id() +
+                    "' has no MuJoCo scene; rendering works for the manipulation tasks and "
+                    "benchmarks");
 }
 
 }  // namespace manyworlds

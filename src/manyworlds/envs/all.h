@@ -7,12 +7,19 @@
 #define MANYWORLDS_ENVS_ALL_H_
 
 #include <memory>
+#include <string>
 #include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "manyworlds/core/env.h"
+#include "manyworlds/core/policy.h"
 #include "manyworlds/core/registry.h"
+
+// MuJoCo's model and data types, declared here so that this header does not
+// need MuJoCo's (the build may lack it).
+struct mjModel_;
+struct mjData_;
 
 namespace manyworlds {
 
@@ -23,6 +30,27 @@ const Registry& DefaultRegistry();
 // DefaultRegistry().Make(id, options). Throws ConfigError for an unknown id
 // (suggesting the nearest ones) or a bad option.
 std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options = {});
+
+// The scripted (expert) policy of an env that has one: the manipulation
+// tasks and benchmarks, also behind wrappers. `env` must outlive it. Throws
+// ConfigError for other envs.
+std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env);
+
+// Writes the complete MJCF of the current task (variation) of a MuJoCo env
+// (a manipulation task or benchmark, also behind wrappers) to `path`.
+// Throws ConfigError for other envs.
+void SaveTaskXml(const Env& env, const std::string& path);
+
+// The MuJoCo model and data that simulate the current task of `env` (a
+// manipulation task or benchmark, also behind wrappers), for rendering.
+// Both belong to the env: valid until its next SetTaskState, and the data
+// changes with every step. Throws ConfigError for other envs and before a
+// benchmark has a task.
+struct MujocoScene {
+  const mjModel_* model = nullptr;
+  const mjData_* data = nullptr;
+};
+MujocoScene ActiveMujocoScene(const Env& env);
 
 }  // namespace manyworlds
 

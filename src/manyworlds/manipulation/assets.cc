@@ -16,13 +16,24 @@ std::string_view FindAsset(std::string_view name) {
   throw Error("no manipulation asset named '" + std::string(name) + "' (available: " + names + ")");
 }
 
-sim::ModelPtr LoadTaskModel(std::string_view file) {
-  const std::string_view main = FindAsset(file);
+namespace {
+
+std::vector<sim::VirtualFile> OtherAssets(std::string_view file) {
   std::vector<sim::VirtualFile> others;
   for (const EmbeddedAsset& asset : EmbeddedAssets()) {
     if (asset.name != file) others.push_back({asset.name, asset.contents});
   }
-  return sim::LoadModelFromString(main, others, file);
+  return others;
+}
+
+}  // namespace
+
+sim::ModelPtr LoadTaskModel(std::string_view file) {
+  return sim::LoadModelFromString(FindAsset(file), OtherAssets(file), file);
+}
+
+void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path) {
+  sim::SaveModelXml(model, FindAsset(file), OtherAssets(file), file, path);
 }
 
 }  // namespace manyworlds::manipulation

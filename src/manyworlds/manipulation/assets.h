@@ -4,6 +4,7 @@
 #define MANYWORLDS_MANIPULATION_ASSETS_H_
 
 #include <span>
+#include <string>
 #include <string_view>
 
 #include "manyworlds/sim/model.h"
@@ -24,6 +25,10 @@ std::string_view FindAsset(std::string_view name);
 // Compiles the named task file; the other assets are visible to its
 // <include> elements. Throws sim::MujocoError.
 sim::ModelPtr LoadTaskModel(std::string_view file);
+
+// Writes `model` (compiled from `file`, possibly with moved bodies) as one
+// self-contained MJCF file at `path`. Throws sim::MujocoError.
+void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path);
 
 }  // namespace manyworlds::manipulation
 

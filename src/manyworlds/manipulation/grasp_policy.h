@@ -16,6 +16,20 @@ namespace manyworlds::manipulation {
 //  4. at grasp height: close the gripper in place.
 void GraspAndCarry(const SawyerObs& obs, const Vec3& carry_to, std::span<float> action);
 
+// Thresholds of the script; the defaults (used by the overload above) suit
+// the 4 cm puck: the opening closed on it is about 0.5, open is 1.
+struct GraspParams {
+  double closed_on_object = 0.55;  // opening below which the pads hold it
+  double held_distance = 0.025;    // tcp-object distance while held
+  double over_object_xy = 0.012;   // xy alignment before descending
+  double approach_height = 0.08;   // tcp above the object on approach
+  double at_grasp_height = 0.006;  // tcp-object height error to close at
+};
+
+// The same script with other thresholds (larger or thinner objects).
+void GraspAndCarry(const SawyerObs& obs, const Vec3& carry_to, std::span<float> action,
+                   const GraspParams& params);
+
 }  // namespace manyworlds::manipulation
 
 #endif  // MANYWORLDS_MANIPULATION_GRASP_POLICY_H_

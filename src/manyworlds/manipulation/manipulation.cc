@@ -3,9 +3,23 @@
 #include <functional>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/manipulation/basketball.h"
+#include "manyworlds/manipulation/benchmark.h"
+#include "manyworlds/manipulation/button_press_topdown.h"
+#include "manyworlds/manipulation/door_close.h"
+#include "manyworlds/manipulation/door_open.h"
+#include "manyworlds/manipulation/drawer_close.h"
+#include "manyworlds/manipulation/drawer_open.h"
+#include "manyworlds/manipulation/lever_pull.h"
+#include "manyworlds/manipulation/peg_insert_side.h"
 #include "manyworlds/manipulation/pick_place.h"
 #include "manyworlds/manipulation/push.h"
 #include "manyworlds/manipulation/reach.h"
+#include "manyworlds/manipulation/shelf_place.h"
+#include "manyworlds/manipulation/sweep.h"
+#include "manyworlds/manipulation/sweep_into.h"
+#include "manyworlds/manipulation/window_close.h"
+#include "manyworlds/manipulation/window_open.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -29,6 +43,19 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<Reach, ReachScriptedPolicy>(),
       Entry<Push, PushScriptedPolicy>(),
       Entry<PickPlace, PickPlaceScriptedPolicy>(),
+      Entry<DoorOpen, DoorOpenScriptedPolicy>(),
+      Entry<DrawerOpen, DrawerOpenScriptedPolicy>(),
+      Entry<DrawerClose, DrawerCloseScriptedPolicy>(),
+      Entry<ButtonPressTopdown, ButtonPressTopdownScriptedPolicy>(),
+      Entry<PegInsertSide, PegInsertSideScriptedPolicy>(),
+      Entry<WindowOpen, WindowOpenScriptedPolicy>(),
+      Entry<WindowClose, WindowCloseScriptedPolicy>(),
+      Entry<Sweep, SweepScriptedPolicy>(),
+      Entry<Basketball, BasketballScriptedPolicy>(),
+      Entry<DoorClose, DoorCloseScriptedPolicy>(),
+      Entry<ShelfPlace, ShelfPlaceScriptedPolicy>(),
+      Entry<SweepInto, SweepIntoScriptedPolicy>(),
+      Entry<LeverPull, LeverPullScriptedPolicy>(),
   };
   return tasks;
 }
@@ -55,6 +82,17 @@ void RegisterManipulationSuite(Registry& registry) {
                     return make(sawyer);
                   }});
   }
+  RegisterBenchmarks(registry);
+}
+
+std::unique_ptr<SawyerTask> MakeSawyerTask(std::string_view task_id, SawyerOptions options) {
+  for (const TaskEntry& task : Tasks()) {
+    if (task.config().id == task_id) {
+      return std::unique_ptr<SawyerTask>(static_cast<SawyerTask*>(task.make_env(options).release()));
+    }
+  }
+  throw ConfigError("unknown manipulation task '" + std::string(task_id) + "'" +
+                    SuggestNearest(task_id, ManipulationTaskIds()));
 }
 
 std::vector<std::string> ManipulationTaskIds() {

@@ -4,7 +4,10 @@
 //   manipulation::RegisterManipulationSuite(registry);
 //   auto env = registry.Make("pick-place", {{"goal_observable", false}});
 //
-// Registered ids: reach, push, pick-place (family "manipulation"). Options:
+// Registered ids, in order: reach, push, pick-place, door-open, drawer-open,
+// drawer-close, button-press-topdown, peg-insert-side, window-open,
+// window-close, sweep, basketball, door-close, shelf-place, sweep-into,
+// lever-pull (family "manipulation"). Options:
 //   goal_observable (bool, default true): goal in obs[36:39] and the task
 //     observation; false zeroes it (meta-RL setting).
 //   throw_on_sim_warning (bool, default false): MuJoCo warnings during a
@@ -19,13 +22,19 @@
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/core/registry.h"
+#include "manyworlds/manipulation/sawyer_task.h"
 
 namespace manyworlds::manipulation {
 
+// Registers every task, then the benchmarks (mt10, ml10, mt1, ml1; see
+// benchmark.h).
 void RegisterManipulationSuite(Registry& registry);
 
 // Ids of the tasks RegisterManipulationSuite adds, in order.
 std::vector<std::string> ManipulationTaskIds();
+
+// A task by id, as its concrete class. Throws ConfigError for an unknown id.
+std::unique_ptr<SawyerTask> MakeSawyerTask(std::string_view task_id, SawyerOptions options = {});
 
 // The scripted (expert) policy of a task, acting from observations with the
 // goal observable. Throws ConfigError for an unknown id.

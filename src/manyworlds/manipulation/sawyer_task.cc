@@ -64,6 +64,7 @@ EnvSpec SawyerTask::MakeSpec(const SawyerTaskConfig& config, const SawyerOptions
   spec.info_fields = {"success",         "near_object",   "grasp_success",  "grasp_reward",
                       "in_place_reward", "obj_to_target", "unscaled_reward"};
   spec.max_episode_steps = kMaxEpisodeSteps;
+  spec.uses_env_seed = false;  // everything random is in the task state
   return spec;
 }
 
@@ -79,8 +80,13 @@ SawyerTask::SawyerTask(SawyerTaskConfig config, SawyerOptions options)
   obj_geom_ = ids.Geom("obj_geom");
   left_pad_geom_ = ids.Geom("left_pad");
   right_pad_geom_ = ids.Geom("right_pad");
-  obj_qpos_ = ids.FreeJointQposAddress("obj");
-  obj_dof_ = model_->jnt_dofadr[model_->body_jntadr[obj_body_]];
+  // "obj" is a free body in the pick-and-place family, a part of a fixture
+  // (a handle, a button) elsewhere.
+  const int obj_joint = model_->body_jntadr[obj_body_];
+  if (obj_joint >= 0 && model_->jnt_type[obj_joint] == mjJNT_FREE) {
+    obj_qpos_ = model_->jnt_qposadr[obj_joint];
+    obj_dof_ = model_->jnt_dofadr[obj_joint];
+  }
   hand_mocap_ = ids.MocapIndex("hand_mocap");
   goal_mocap_ = ids.MocapIndex("goal");
   left_act_ = ids.Actuator("left_finger_act");
@@ -112,7 +118,7 @@ TaskState SawyerTask::DoSampleTaskState(Rng& rng) {
   do {
     for (int i = 0; i < 3; ++i) obj[i] = rng.Uniform(config_.obj_low[i], config_.obj_high[i]);
     for (int i = 0; i < 3; ++i) goal[i] = rng.Uniform(config_.goal_low[i], config_.goal_high[i]);
-    if (config_.goal_z_at_object) goal[2] = obj[2];
+    goal = DeriveGoal(obj, goal);
   } while (XyDistance(obj, goal) < config_.min_obj_goal_xy);
   return TaskState{id(), {{"obj_pos", ToVector(obj)}, {"goal_pos", ToVector(goal)}}};
 }
@@ -146,6 +152,12 @@ void SawyerTask::DoSetTaskState(const TaskState& state) {
                            ", " + std::to_string(goal_high) + "]");
     }
   }
+  const Vec3 derived = DeriveGoal(obj, goal);
+  if (Distance(derived, goal) > 1e-9) {
+    throw TaskStateError("env '" + id() + "': goal_pos is determined by obj_pos in this task; for this obj_pos it must be [" +
+                         std::to_string(derived[0]) + ", " + std::to_string(derived[1]) + ", " +
+                         std::to_string(derived[2]) + "]");
+  }
   if (XyDistance(obj, goal) < config_.min_obj_goal_xy) {
     throw TaskStateError("env '" + id() + "': obj_pos and goal_pos are " +
                          std::to_string(XyDistance(obj, goal)) + " m apart in xy, need >= " +
@@ -167,11 +179,7 @@ void SawyerTask::DoReset(const ObsView& out) {
   mjData* d = data_.get();
   mj_resetData(m, d);
   sim::SetState(m, d, settled_);
-  // Object upright at rest at the task position; goal marker on its mocap.
-  const mjtNum upright[7] = {obj_pos_[0], obj_pos_[1], obj_pos_[2], 1, 0, 0, 0};
-  mju_copy(d->qpos + obj_qpos_, upright, 7);
-  mju_zero(d->qvel + obj_dof_, 6);
-  mju_zero(d->qacc_warmstart + obj_dof_, 6);
+  PlaceObjects(m, d);
   for (int i = 0; i < 3; ++i) d->mocap_pos[3 * goal_mocap_ + i] = goal_pos_[i];
   mj_forward(m, d);
 
@@ -180,6 +188,47 @@ void SawyerTask::DoReset(const ObsView& out) {
   state_.tcp_init = state_.tcp;
   WriteFrame(prev_frame_);
   WriteObs(out.env_obs);
+}
+
+Vec3 SawyerTask::DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const {
+  Vec3 goal = drawn_goal;
+  if (config_.goal_z_at_object) goal[2] = obj[2];
+  return goal;
+}
+
+void SawyerTask::PlaceObjects(mjModel*, mjData* d) {
+  if (obj_qpos_ < 0) return;
+  const mjtNum upright[7] = {obj_pos_[0], obj_pos_[1], obj_pos_[2], 1, 0, 0, 0};
+  mju_copy(d->qpos + obj_qpos_, upright, 7);
+  mju_zero(d->qvel + obj_dof_, 6);
+  mju_zero(d->qacc_warmstart + obj_dof_, 6);
+}
+
+void SawyerTask::SaveVariationXml(const std::string& path) const {
+  if (!has_task()) {
+    throw EpisodeStateError("env '" + id() + "': SaveVariationXml needs a task; call "
+                            "SetTaskState or ResetTaskState first");
+  }
+  // Place everything in copies, then move the start poses into the bodies,
+  // since the saved file carries body frames, not a state.
+  sim::ModelPtr m(mj_copyModel(nullptr, model_.get()));
+  sim::DataPtr d = sim::MakeData(m.get());
+  mj_resetData(m.get(), d.get());
+  // PlaceObjects writes only into the model and data it is given.
+  const_cast<SawyerTask*>(this)->PlaceObjects(m.get(), d.get());
+  if (obj_qpos_ >= 0) {
+    mju_copy3(m->body_pos + 3 * obj_body_, d->qpos + obj_qpos_);
+    mju_copy4(m->body_quat + 4 * obj_body_, d->qpos + obj_qpos_ + 3);
+  }
+  for (int b = 0; b < m->nbody; ++b) {
+    if (m->body_mocapid[b] == goal_mocap_) mju_copy3(m->body_pos + 3 * b, goal_pos_.data());
+    if (m->body_mocapid[b] == hand_mocap_) mju_copy3(m->body_pos + 3 * b, config_.hand_init.data());
+  }
+  SaveTaskModelXml(m.get(), config_.xml_file, path);
+}
+
+void SawyerTask::WriteObject2(const mjData*, float* pos_quat) const {
+  std::fill(pos_quat, pos_quat + 7, 0.0f);
 }
 
 void SawyerTask::DoStep(std::span<const float> action, const StepView& out) {
@@ -253,7 +302,7 @@ void SawyerTask::WriteFrame(float* frame) const {
   frame[kObsObj1Quat + 1] = static_cast<float>(q[2]);
   frame[kObsObj1Quat + 2] = static_cast<float>(q[3]);
   frame[kObsObj1Quat + 3] = static_cast<float>(q[0]);
-  std::fill(frame + kObsObj2Pos, frame + kObsFrame, 0.0f);
+  WriteObject2(d, frame + kObsObj2Pos);
 }
 
 void SawyerTask::WriteObs(std::span<float> obs) const {

@@ -110,6 +110,13 @@ class SawyerTask : public Env {
   const SawyerTaskConfig& config() const { return config_; }
   const SawyerState& state() const { return state_; }
   long sim_warning_count() const { return sim_warning_count_; }
+
+  // Writes the complete MJCF of the current variation (objects, fixtures,
+  // goal marker and hand target where a reset puts them) to `path`; MuJoCo
+  // loads it on its own. The arm starts straight there and is pulled to the
+  // hand start by the weld in the first steps. Throws EpisodeStateError
+  // before a task is set, sim::MujocoError if writing fails.
+  void SaveVariationXml(const std::string& path) const;
   const std::string& last_sim_warning() const { return last_sim_warning_; }
 
  protected:
@@ -124,6 +131,29 @@ class SawyerTask : public Env {
   void DoSetTaskState(const TaskState& state) override;
   void DoReset(const ObsView& out) override;
   void DoStep(std::span<const float> action, const StepView& out) override;
+
+  // Hooks for tasks whose objects are not one free body (fixtures such as
+  // doors and drawers, a second object). The defaults serve the free body
+  // "obj" of reach, push and pick-place.
+
+  // The goal that belongs to an object position and a goal drawn from
+  // [goal_low, goal_high]. Default: the drawn goal, at the object's height
+  // with goal_z_at_object. A task whose goal is fixed relative to a fixture
+  // returns obj + offset (and sets min_obj_goal_xy to 0). set_task_state
+  // rejects goals that are not their own DeriveGoal.
+  virtual Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const;
+  // Puts the objects in place for the current variation (obj_pos(),
+  // goal_pos()); called at reset after the settled state is restored, before
+  // mj_forward. Default: the free body "obj" upright and at rest at
+  // obj_pos(). A fixture may move its own body in the model (m->body_pos):
+  // every env owns its model.
+  virtual void PlaceObjects(mjModel* m, mjData* d);
+  // obs[11:18]: position and (x, y, z, w) quaternion of a second object.
+  // Default: zeros (no second object).
+  virtual void WriteObject2(const mjData* d, float* pos_quat) const;
+
+  const Vec3& obj_pos() const { return obj_pos_; }
+  const Vec3& goal_pos() const { return goal_pos_; }
 
  private:
   static EnvSpec MakeSpec(const SawyerTaskConfig& config, const SawyerOptions& options);
@@ -140,7 +170,7 @@ class SawyerTask : public Env {
   // Ids cached at construction.
   int hand_site_ = -1, left_pad_site_ = -1, right_pad_site_ = -1;
   int obj_body_ = -1, obj_geom_ = -1, left_pad_geom_ = -1, right_pad_geom_ = -1;
-  int obj_qpos_ = -1, obj_dof_ = -1;
+  int obj_qpos_ = -1, obj_dof_ = -1;  // -1: "obj" has no free joint
   int hand_mocap_ = -1, goal_mocap_ = -1;
   int left_act_ = -1, right_act_ = -1;
 

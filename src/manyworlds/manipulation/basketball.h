@@ -1,0 +1,49 @@
+// basketball: pick up the ball and put it through the hoop.
+//   ball (radius 3 cm) in [(-0.1, 0.6, 0.03), (0.1, 0.7, 0.03)]
+//   hoop stand in [(-0.1, 0.85, 0), (0.1, 0.9, 0)]; the ring (inner radius
+//     7.9 cm) is centred at stand + (0, -0.1, 0.25) and the goal is 5 cm
+//     below that, inside the net: stand + (0, -0.1, 0.2), so goal_pos lies
+//     in [(-0.1, 0.75, 0.2), (0.1, 0.8, 0.2)], >= 0.15 m from the ball in
+//     xy. Within 8 cm of the goal the ball is at least half through the
+//     ring.
+//   in_place = tol(|W (obj - goal)|, (0, 0.08), margin |W (obj_init - goal)|)
+//     with W = (1, 1, 2): height counts double
+//   grasped = gripper caging (high density; obj radius 0.025, pad 0.06,
+//     xz 0.005), 1 while held (tcp within 3.5 cm, opening > 0, lifted 1 cm)
+//   reward = H(grasped, in_place); + 1 + 5 in_place while held; 10 once
+//     |obj - goal| <= 0.08
+//   info: success |obj - goal| <= 0.08; near_object |tcp - obj| <= 0.03;
+//     grasp_success = touching, opening > 0 and lifted 2 cm;
+//     grasp_reward = grasped; in_place_reward; obj_to_target = |obj - goal|.
+#ifndef MANYWORLDS_MANIPULATION_BASKETBALL_H_
+#define MANYWORLDS_MANIPULATION_BASKETBALL_H_
+
+#include "manyworlds/core/policy.h"
+#include "manyworlds/manipulation/sawyer_task.h"
+
+namespace manyworlds::manipulation {
+
+class Basketball : public SawyerTask {
+ public:
+  explicit Basketball(SawyerOptions options = {});
+  static SawyerTaskConfig Config();
+
+ protected:
+  RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  void PlaceObjects(mjModel* m, mjData* d) override;
+
+ private:
+  int hoop_ = -1;  // body
+};
+
+// Grasps the ball, lifts it straight up above the ring's height, carries it
+// over the ring and lowers it through into the net.
+class BasketballScriptedPolicy : public Policy {
+ public:
+  void Act(std::span<const float> env_obs, std::span<const float> task_obs,
+           std::span<float> action) override;
+};
+
+}  // namespace manyworlds::manipulation
+
+#endif  // MANYWORLDS_MANIPULATION_BASKETBALL_H_

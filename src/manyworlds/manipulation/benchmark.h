@@ -1,0 +1,112 @@
+// Meta-World-style benchmarks over the Sawyer tasks: MT1, ML1, MT10, ML10
+// (metaworld.md §1.2 for the splits, §2.5–2.6 for the variations).
+//
+// A benchmark is itself a multi-task env. Its tasks are pairs (task,
+// variation): every task has `num_variations` (50) variations (object and
+// goal positions) drawn once, at construction, from the benchmark seed and
+// nothing else. The train split draws from the seed, the test split from
+// seed + 1, so ML1's test variations differ from its train ones. A task's
+// variations depend only on the seed and the task's name, so push has the
+// same 50 train variations in MT1, MT10 and ML10.
+//
+// Task state (self-contained: the member state is embedded and checked):
+//   {"env": "mt10", "params": {"task": "push", "variation": 7,
+//                              "state": <push's own task state>}}
+// Sampling picks a task, then a variation, uniformly with the task
+// generator; SeedTask changes which (task, variation) pairs come up, never
+// the variations themselves.
+//
+// Observation: the member's 39 values (the union of the members' bounds).
+// MT benchmarks show the goal and give the task index as task observation
+// (Discrete(num_tasks)); the registry appends it to the observation as a
+// one-hot vector (AppendTaskOneHot). ML benchmarks hide the goal and have no
+// task observation: the agent must find out the task by acting.
+//
+// EvaluationTasks(): one group per task with all its variations.
+#ifndef MANYWORLDS_MANIPULATION_BENCHMARK_H_
+#define MANYWORLDS_MANIPULATION_BENCHMARK_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "manyworlds/core/env.h"
+#include "manyworlds/core/policy.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/manipulation/sawyer_task.h"
+
+namespace manyworlds::manipulation {
+
+enum class BenchmarkSplit { kTrain, kTest };
+
+struct BenchmarkConfig {
+  std::string id;                  // e.g. "mt10", "ml1-push"
+  std::vector<std::string> tasks;  // registry ids of the member tasks, in one-hot order
+  bool meta = false;               // ML: goal hidden, no task observation
+  BenchmarkSplit split = BenchmarkSplit::kTrain;
+  uint64_t seed = 0;               // the benchmark seed
+  int num_variations = 50;
+};
+
+// The published splits (metaworld.md §1.2).
+std::vector<std::string> Mt10Tasks();
+std::vector<std::string> Ml10TrainTasks();
+std::vector<std::string> Ml10TestTasks();
+
+class Benchmark : public Env {
+ public:
+  // Throws ConfigError for an unknown task id, no tasks or a bad count.
+  explicit Benchmark(BenchmarkConfig config);
+
+  const BenchmarkConfig& config() const { return config_; }
+  int num_tasks() const { return static_cast<int>(members_.size()); }
+  const std::string& task_name(int task) const { return config_.tasks.at(task); }
+  const std::vector<TaskState>& variations(int task) const { return variations_.at(task); }
+  // The member task and the variation of the current task (-1 before one).
+  int active_task() const { return active_task_; }
+  int active_variation() const { return active_variation_; }
+  const SawyerTask& member(int task) const { return *members_.at(task); }
+
+  // The task state of one (task, variation) pair.
+  TaskState VariationState(int task, int variation) const;
+  std::vector<TaskGroup> EvaluationTasks() const override;
+
+  void SetMaxEpisodeSteps(int64_t max_episode_steps) override;
+
+ protected:
+  TaskState DoSampleTaskState(Rng& task_rng) override;
+  TaskState DoGetTaskState() const override;
+  void DoSetTaskState(const TaskState& state) override;
+  void DoReset(const ObsView& out) override;
+  void DoStep(std::span<const float> action, const StepView& out) override;
+
+ private:
+  Benchmark(BenchmarkConfig config, std::vector<std::unique_ptr<SawyerTask>> members);
+
+  BenchmarkConfig config_;
+  std::vector<std::unique_ptr<SawyerTask>> members_;
+  std::vector<std::vector<TaskState>> variations_;
+  std::vector<float> member_task_obs_;  // scratch for the member's goal
+  int active_task_ = -1;
+  int active_variation_ = -1;
+};
+
+// Registers mt10, ml10, mt1 and ml1 (family "benchmark"); every task they
+// name must be registered by RegisterManipulationSuite.
+void RegisterBenchmarks(Registry& registry);
+
+// The Sawyer task that runs the current task of `env` (a task, a benchmark's
+// active member, either behind wrappers), or nullptr if there is none (no
+// task set yet, or not a manipulation env).
+const SawyerTask* ActiveSawyerTask(const Env& env);
+
+// The scripted policy for a Sawyer task, a benchmark, or either behind
+// wrappers that keep the first 39 observation values. It is privileged: it
+// reads the true goal from the env, so it also acts when the goal is hidden.
+// `env` must outlive the policy. Throws ConfigError for other envs.
+std::unique_ptr<Policy> MakeScriptedPolicyFor(const Env& env);
+
+}  // namespace manyworlds::manipulation
+
+#endif  // MANYWORLDS_MANIPULATION_BENCHMARK_H_

@@ -1,0 +1,37 @@
+#include "manyworlds/manipulation/object_tasks.h"
+
+#include <cmath>
+
+namespace manyworlds::manipulation {
+
+double CageObject(const SawyerState& s, const Vec3& obj, double gripper_action,
+                  const CagingParams& params) {
+  return GripperCagingReward(
+      {s.left_pad, s.right_pad, s.tcp, obj, s.obj_init, s.tcp_init, gripper_action}, params);
+}
+
+bool HeldAndLifted(const SawyerState& s, double tcp_radius, double lift) {
+  return Distance(s.tcp, s.obj) < tcp_radius && s.gripper_opening > 0 &&
+         s.obj[2] - lift > s.obj_init[2];
+}
+
+double GraspSuccess(const SawyerState& s) {
+  return s.touching_obj && s.gripper_opening > 0 && s.obj[2] - 0.02 > s.obj_init[2] ? 1.0 : 0.0;
+}
+
+double WeightedDistance(const Vec3& a, const Vec3& b, const Vec3& w) {
+  double sum = 0;
+  for (int i = 0; i < 3; ++i) sum += (w[i] * (a[i] - b[i])) * (w[i] * (a[i] - b[i]));
+  return std::sqrt(sum);
+}
+
+Vec3 SitePosition(const mjData* d, int site) {
+  const mjtNum* p = d->site_xpos + 3 * site;
+  return {p[0], p[1], p[2]};
+}
+
+void PlaceFixture(mjModel* m, int body, const Vec3& pos) {
+  for (int i = 0; i < 3; ++i) m->body_pos[3 * body + i] = pos[i];
+}
+
+}  // namespace manyworlds::manipulation

@@ -1,0 +1,39 @@
+// Pieces shared by the free-object tasks (peg-insert-side, sweep,
+// sweep-into, basketball, shelf-place): one loose object the gripper moves,
+// often next to a static fixture (box, hoop, shelf, pocket) that is moved
+// to the variation's goal at reset.
+#ifndef MANYWORLDS_MANIPULATION_OBJECT_TASKS_H_
+#define MANYWORLDS_MANIPULATION_OBJECT_TASKS_H_
+
+#include <mujoco/mujoco.h>
+
+#include "manyworlds/manipulation/reward_utils.h"
+#include "manyworlds/manipulation/sawyer_task.h"
+
+namespace manyworlds::manipulation {
+
+// Gripper caging of the point `obj` (usually state.obj), from the pads, tcp
+// and initial positions in `state`.
+double CageObject(const SawyerState& state, const Vec3& obj, double gripper_action,
+                  const CagingParams& params);
+
+// The Meta-World "carrying" test: tcp within `tcp_radius` of the object, the
+// gripper not shut (opening > 0) and the object `lift` above its start.
+bool HeldAndLifted(const SawyerState& state, double tcp_radius, double lift);
+
+// info grasp_success: a pad touches the object, the gripper is not shut and
+// the object is 2 cm above its start.
+double GraspSuccess(const SawyerState& state);
+
+// |diag(weights) (a - b)|: weighting an axis makes it count more.
+double WeightedDistance(const Vec3& a, const Vec3& b, const Vec3& weights);
+
+Vec3 SitePosition(const mjData* d, int site);
+
+// Moves a static (jointless, world-child) body so its frame is at `pos`.
+// Every env owns its model, so this changes only this env's scene.
+void PlaceFixture(mjModel* m, int body, const Vec3& pos);
+
+}  // namespace manyworlds::manipulation
+
+#endif  // MANYWORLDS_MANIPULATION_OBJECT_TASKS_H_

@@ -1,0 +1,58 @@
+#include "manyworlds/manipulation/sweep.h"
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr double kTargetRadius = 0.05;
+constexpr double kPuckCentreHeight = 0.02;
+
+}  // namespace
+
+SawyerTaskConfig Sweep::Config() {
+  SawyerTaskConfig config;
+  config.id = "sweep";
+  config.description = "Sawyer arm: sweep a puck sideways to the edge of the table";
+  config.xml_file = "sweep.xml";
+  config.obj_low = {-0.1, 0.6, kPuckCentreHeight};
+  config.obj_high = {0.1, 0.7, kPuckCentreHeight};
+  config.goal_low = {0.49, 0.6, 0.0};
+  config.goal_high = {0.51, 0.7, 0.02};
+  return config;
+}
+
+Sweep::Sweep(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms Sweep::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double tcp_to_obj = Distance(s.tcp, s.obj);
+  const double in_place =
+      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
+  CagingParams caging;
+  caging.obj_radius = 0.02;
+  caging.pad_success_thresh = 0.05;
+  caging.xz_thresh = 0.005;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+
+  RewardTerms terms;
+  terms.reward = 2.0 * grasped + 6.0 * HamacherProduct(grasped, in_place);
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = s.touching_obj && s.gripper_opening > 0 && tcp_to_obj < 0.02 ? 1.0 : 0.0;
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void SweepScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                              std::span<float> action) {
+  const SawyerObs o(env_obs);
+  GraspAndCarry(o, {o.goal[0], o.goal[1], kPuckCentreHeight + 0.005}, action);
+}
+
+}  // namespace manyworlds::manipulation

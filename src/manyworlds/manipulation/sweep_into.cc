@@ -1,0 +1,61 @@
+#include "manyworlds/manipulation/sweep_into.h"
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr double kTargetRadius = 0.05;
+
+}  // namespace
+
+SawyerTaskConfig SweepInto::Config() {
+  SawyerTaskConfig config;
+  config.id = "sweep-into";
+  config.description = "Sawyer arm: sweep a puck into the goal pocket";
+  config.xml_file = "sweep_into.xml";
+  config.obj_low = {-0.1, 0.6, 0.02};
+  config.obj_high = {0.1, 0.7, 0.02};
+  // The pocket does not move: the goal is one point.
+  config.goal_low = {0.0, 0.84, 0.02};
+  config.goal_high = {0.0, 0.84, 0.02};
+  return config;
+}
+
+SweepInto::SweepInto(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms SweepInto::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double tcp_to_obj = Distance(s.tcp, s.obj);
+  const double in_place =
+      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
+  CagingParams caging;
+  caging.obj_radius = 0.02;
+  caging.pad_success_thresh = 0.05;
+  caging.xz_thresh = 0.005;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+
+  RewardTerms terms;
+  terms.reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) terms.reward += 1.0 + 7.0 * in_place;
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = s.touching_obj && s.gripper_opening > 0 && tcp_to_obj < 0.02 ? 1.0 : 0.0;
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void SweepIntoScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                  std::span<float> action) {
+  const SawyerObs o(env_obs);
+  // The goal is at the puck's centre height; 5 mm higher the puck does not
+  // drag on the table.
+  GraspAndCarry(o, {o.goal[0], o.goal[1], o.goal[2] + 0.005}, action);
+}
+
+}  // namespace manyworlds::manipulation

@@ -1,0 +1,171 @@
+// Benchmarks: variation sets, splits, goal visibility, one-hot ids, task
+// states, scripted policies and MJCF export through the registry.
+#include "manyworlds/manipulation/benchmark.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "manyworlds/core/env_checker.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/wrappers/append_task_one_hot.h"
+#include "manyworlds/manipulation/manipulation.h"
+#include "manyworlds/sim/model.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+class BenchmarkTest : public ::testing::Test {
+ protected:
+  void SetUp() override { RegisterManipulationSuite(registry_); }
+  std::unique_ptr<Env> Make(const std::string& id, const nlohmann::json& options = {}) {
+    return registry_.Make(id, options.is_null() ? nlohmann::json::object() : options);
+  }
+  Registry registry_;
+};
+
+const Benchmark& AsBenchmark(const Env& env) {
+  if (const auto* bench = dynamic_cast<const Benchmark*>(&env)) return *bench;
+  return dynamic_cast<const Benchmark&>(dynamic_cast<const Wrapper&>(env).inner());
+}
+
+std::set<std::string> Dumps(const std::vector<TaskState>& states) {
+  std::set<std::string> dumps;
+  for (const auto& s : states) dumps.insert(s.ToJson().dump());
+  return dumps;
+}
+
+TEST_F(BenchmarkTest, SplitsFollowTheReference) {
+  EXPECT_EQ(Mt10Tasks().size(), 10u);
+  EXPECT_EQ(Ml10TrainTasks().size(), 10u);
+  EXPECT_EQ(Ml10TestTasks().size(), 5u);
+  const std::vector<std::string> train = Ml10TrainTasks();
+  for (const auto& t : Ml10TestTasks()) {
+    EXPECT_EQ(std::count(train.begin(), train.end(), t), 0) << t;
+  }
+  auto mt10 = Make("mt10");
+  EXPECT_EQ(AsBenchmark(*mt10).config().tasks, Mt10Tasks());
+  auto ml10_test = Make("ml10", {{"split", "test"}});
+  EXPECT_EQ(AsBenchmark(*ml10_test).config().tasks, Ml10TestTasks());
+  EXPECT_THROW(Make("ml10", {{"split", "validation"}}), ConfigError);
+  EXPECT_THROW(Make("mt1", {{"task", "reech"}}), ConfigError);
+}
+
+TEST_F(BenchmarkTest, FiftyDistinctVariationsFromTheBenchmarkSeedOnly) {
+  auto a = Make("mt1", {{"task", "push"}});
+  auto b = Make("mt1", {{"task", "push"}});
+  b->SeedTask(99);  // the task seed picks among variations, never changes them
+  b->Seed(7);
+  const auto& va = AsBenchmark(*a).variations(0);
+  ASSERT_EQ(va.size(), 50u);
+  EXPECT_EQ(Dumps(va).size(), 50u);
+  EXPECT_EQ(Dumps(va), Dumps(AsBenchmark(*b).variations(0)));
+  auto other_seed = Make("mt1", {{"task", "push"}, {"benchmark_seed", 1}});
+  EXPECT_NE(Dumps(va), Dumps(AsBenchmark(*other_seed).variations(0)));
+  // The same task has the same train variations in every benchmark.
+  auto mt10 = Make("mt10");
+  EXPECT_EQ(Dumps(va), Dumps(AsBenchmark(*mt10).variations(1)));
+}
+
+TEST_F(BenchmarkTest, Ml1TestVariationsDifferFromTrain) {
+  auto train = Make("ml1", {{"task", "reach"}});
+  auto test = Make("ml1", {{"task", "reach"}, {"split", "test"}});
+  const auto train_set = Dumps(AsBenchmark(*train).variations(0));
+  for (const auto& d : Dumps(AsBenchmark(*test).variations(0))) {
+    EXPECT_EQ(train_set.count(d), 0u);
+  }
+}
+
+TEST_F(BenchmarkTest, GoalVisibleInMtHiddenInMl) {
+  auto mt = Make("mt1", {{"task", "reach"}});
+  mt->ResetTaskState();
+  Observation o = mt->Reset();
+  ASSERT_EQ(o.env_obs.size(), 39u + 1u);  // one-hot of one task appended
+  EXPECT_NE(o.env_obs[kObsGoal] + o.env_obs[kObsGoal + 1], 0.0f);
+  auto ml = Make("ml1", {{"task", "reach"}});
+  ml->ResetTaskState();
+  o = ml->Reset();
+  ASSERT_EQ(o.env_obs.size(), 39u);
+  EXPECT_TRUE(o.task_obs.empty());
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(o.env_obs[kObsGoal + i], 0.0f);
+}
+
+TEST_F(BenchmarkTest, Mt10AppendsTheOneHotTaskId) {
+  auto env = Make("mt10");
+  const Benchmark& bench = AsBenchmark(*env);
+  ASSERT_EQ(env->spec().env_obs_space.flat_size(), 49);
+  for (int task = 0; task < bench.num_tasks(); ++task) {
+    env->SetTaskState(bench.VariationState(task, task));
+    const Observation o = env->Reset();
+    ASSERT_EQ(o.task_obs.size(), 1u);
+    EXPECT_EQ(o.task_obs[0], static_cast<float>(task));
+    for (int j = 0; j < 10; ++j) EXPECT_EQ(o.env_obs[39 + j], j == task ? 1.0f : 0.0f);
+    EXPECT_TRUE(env->spec().env_obs_space.Contains(o.env_obs));
+  }
+  auto no_one_hot = Make("mt10", {{"task_id_in_obs", false}});
+  EXPECT_EQ(no_one_hot->spec().env_obs_space.flat_size(), 39);
+}
+
+TEST_F(BenchmarkTest, TaskStatesRunOnAnotherInstanceAndAreValidated) {
+  auto a = Make("mt1", {{"task", "pick-place"}});
+  auto b = Make("mt1", {{"task", "pick-place"}});
+  a->SeedTask(5);
+  const TaskState state = a->SampleTaskState();
+  a->SetTaskState(state);
+  b->SetTaskState(TaskState::FromJson(nlohmann::json::parse(state.ToJson().dump())));
+  const Observation oa = a->Reset(), ob = b->Reset();
+  EXPECT_EQ(oa.env_obs, ob.env_obs);
+
+  TaskState bad = state;
+  bad.params["variation"] = 50;
+  EXPECT_THROW(a->SetTaskState(bad), TaskStateError);
+  bad = state;
+  bad.params["task"] = "push";
+  EXPECT_THROW(a->SetTaskState(bad), TaskStateError);
+  // A variation from another benchmark seed is refused, not silently run.
+  auto other = Make("mt1", {{"task", "pick-place"}, {"benchmark_seed", 3}});
+  EXPECT_THROW(other->SetTaskState(state), TaskStateError);
+}
+
+TEST_F(BenchmarkTest, PassesTheEnvChecker) {
+  for (const std::string id : {"mt1", "ml1"}) {
+    const CheckReport report = CheckEnv([&] { return Make(id, {{"task", "push"}}); });
+    EXPECT_TRUE(report.ok()) << id << ":\n" << report.ToString();
+  }
+}
+
+TEST_F(BenchmarkTest, ScriptedPolicySolvesHiddenGoalTasks) {
+  auto env = Make("ml1", {{"task", "pick-place"}, {"split", "test"}});
+  auto policy = MakeScriptedPolicyFor(*env);
+  const auto groups = env->EvaluationTasks();
+  ASSERT_EQ(groups.size(), 1u);
+  ASSERT_EQ(groups[0].states.size(), 50u);
+  const auto results = RolloutTaskGroups(*env, *policy, groups, 10);
+  EXPECT_GE(results[0].summary.success_rate, 0.9);
+}
+
+TEST_F(BenchmarkTest, ExportedXmlLoadsAndPlacesTheVariation) {
+  auto env = Make("mt1", {{"task", "push"}});
+  env->SeedTask(11);
+  env->ResetTaskState();
+  const std::string path = ::testing::TempDir() + "/push_variation.xml";
+  const SawyerTask* task = ActiveSawyerTask(*env);
+  ASSERT_NE(task, nullptr);
+  task->SaveVariationXml(path);
+  sim::ModelPtr loaded = sim::LoadModelFromFile(path);
+  EXPECT_EQ(loaded->nbody, task->model()->nbody);
+  EXPECT_EQ(loaded->ngeom, task->model()->ngeom);
+  const int obj = mj_name2id(loaded.get(), mjOBJ_BODY, "obj");
+  ASSERT_GE(obj, 0);
+  env->Reset();
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(loaded->body_pos[3 * obj + i], task->state().obj[i], 1e-5);
+  }
+  std::remove(path.c_str());
+}
+
+}  // namespace
+}  // namespace manyworlds::manipulation

@@ -1,0 +1,178 @@
+// Tests of the free-object tasks (peg-insert-side, sweep, sweep-into,
+// basketball, shelf-place) beyond the shared suite in sawyer_tasks_test.cc:
+// the scripted policy over many variations, a random policy's success rate,
+// and the fixtures following the goal.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "manyworlds/manipulation/manipulation.h"
+#include "manyworlds/manipulation/sawyer_task.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr int kVariations = 50;
+
+// Episodes (of kVariations, from task seed `task_seed`) in which `policy`
+// reaches info success at some step.
+int CountSuccesses(Env& env, Policy& policy, uint64_t task_seed) {
+  env.SeedTask(task_seed);
+  int successes = 0;
+  std::vector<float> action(4);
+  for (int variation = 0; variation < kVariations; ++variation) {
+    env.ResetTaskState();
+    Observation obs = env.Reset();
+    policy.BeginEpisode();
+    for (int t = 0; t < kMaxEpisodeSteps; ++t) {
+      policy.Act(obs.env_obs, obs.task_obs, action);
+      StepResult r = env.Step(action);
+      if (r.info.Get("success") > 0) {
+        ++successes;
+        break;
+      }
+      obs = r.obs;
+    }
+  }
+  return successes;
+}
+
+class ObjectTaskTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  void SetUp() override {
+    RegisterManipulationSuite(registry_);
+    env_ = registry_.Make(GetParam(), nlohmann::json::object());
+  }
+  void TearDown() override {
+    const auto& task = dynamic_cast<const SawyerTask&>(*env_);
+    EXPECT_EQ(task.sim_warning_count(), 0) << task.last_sim_warning();
+  }
+
+  Registry registry_;
+  std::unique_ptr<Env> env_;
+};
+
+TEST_P(ObjectTaskTest, ScriptedPolicySucceedsOnNinetyPercent) {
+  auto policy = MakeScriptedPolicy(GetParam());
+  const int successes = CountSuccesses(*env_, *policy, 77);
+  std::cout << GetParam() << ": scripted " << successes << "/" << kVariations << "\n";
+  EXPECT_GE(successes, kVariations * 9 / 10);
+}
+
+TEST_P(ObjectTaskTest, RandomPolicyRarelySucceeds) {
+  RandomPolicy policy(env_->spec().action_space, 5);
+  const int successes = CountSuccesses(*env_, policy, 78);
+  std::cout << GetParam() << ": random " << successes << "/" << kVariations << "\n";
+  EXPECT_LE(successes, kVariations / 10);
+}
+
+// The fixture (box, hoop, shelf) keeps one offset from the goal across
+// variations, i.e. it is placed at every reset.
+TEST(ObjectTaskFixtures, FollowTheGoal) {
+  Registry registry;
+  RegisterManipulationSuite(registry);
+  const std::vector<std::pair<std::string, std::string>> fixtures = {
+      {"peg-insert-side", "box"}, {"basketball", "hoop"}, {"shelf-place", "shelf"}};
+  for (const auto& [id, body_name] : fixtures) {
+    auto env = registry.Make(id, nlohmann::json::object());
+    const auto& task = dynamic_cast<const SawyerTask&>(*env);
+    const int body = mj_name2id(task.model(), mjOBJ_BODY, body_name.c_str());
+    ASSERT_GE(body, 0) << id;
+    env->SeedTask(9);
+    std::vector<double> first_offset;
+    for (int variation = 0; variation < 5; ++variation) {
+      env->ResetTaskState();
+      const Observation obs = env->Reset();
+      std::vector<double> offset(3);
+      for (int i = 0; i < 3; ++i) {
+        offset[i] = task.data()->xpos[3 * body + i] - obs.env_obs[kObsGoal + i];
+      }
+      if (variation == 0) first_offset = offset;
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(offset[i], first_offset[i], 1e-6) << id;
+    }
+  }
+}
+
+// Runs the scripted policy and calls `check` at the first step with info
+// success, for `variations` variations; returns the number of successes.
+template <typename Check>
+int CheckFirstSuccess(const std::string& id, int variations, Check check) {
+  Registry registry;
+  RegisterManipulationSuite(registry);
+  auto env = registry.Make(id, nlohmann::json::object());
+  const auto& task = dynamic_cast<const SawyerTask&>(*env);
+  auto policy = MakeScriptedPolicy(id);
+  env->SeedTask(31);
+  int successes = 0;
+  std::vector<float> action(4);
+  for (int variation = 0; variation < variations; ++variation) {
+    env->ResetTaskState();
+    Observation obs = env->Reset();
+    for (int t = 0; t < kMaxEpisodeSteps; ++t) {
+      policy->Act(obs.env_obs, obs.task_obs, action);
+      StepResult r = env->Step(action);
+      obs = r.obs;
+      if (r.info.Get("success") > 0) {
+        check(task, obs.env_obs);
+        ++successes;
+        break;
+      }
+    }
+  }
+  return successes;
+}
+
+// The goal sits 7.5 cm inside the hole, so success needs the head past the
+// mouth and on the hole's axis.
+TEST(ObjectTaskPhysics, PegSuccessNeedsTheHeadInTheHole) {
+  const int successes = CheckFirstSuccess(
+      "peg-insert-side", 5, [](const SawyerTask& task, const std::vector<float>& obs) {
+        const int head = mj_name2id(task.model(), mjOBJ_SITE, "peg_head");
+        const mjtNum* p = task.data()->site_xpos + 3 * head;
+        EXPECT_LT(p[0], obs[kObsGoal] + 0.075);  // the mouth
+        EXPECT_LT(std::abs(p[1] - obs[kObsGoal + 1]), 0.03);
+        EXPECT_LT(std::abs(p[2] - obs[kObsGoal + 2]), 0.03);
+      });
+  EXPECT_EQ(successes, 5);
+}
+
+// Success needs the ball inside the ring's circle (inner radius 7.9 cm,
+// ball radius 3 cm) and its bottom below the ring's top (5.6 cm above the
+// goal).
+TEST(ObjectTaskPhysics, BasketballSuccessIsInTheRing) {
+  const int successes =
+      CheckFirstSuccess("basketball", 5, [](const SawyerTask&, const std::vector<float>& obs) {
+        const double dx = obs[kObsObj1Pos] - obs[kObsGoal];
+        const double dy = obs[kObsObj1Pos + 1] - obs[kObsGoal + 1];
+        EXPECT_LT(std::hypot(dx, dy), 0.079 - 0.03);
+        EXPECT_LT(obs[kObsObj1Pos + 2] - 0.03, obs[kObsGoal + 2] + 0.056);
+      });
+  EXPECT_EQ(successes, 5);
+}
+
+std::vector<std::string> ObjectTaskIds() {
+  const std::vector<std::string> wanted = {"peg-insert-side", "sweep", "sweep-into", "basketball",
+                                           "shelf-place"};
+  std::vector<std::string> ids;
+  for (const std::string& id : ManipulationTaskIds()) {
+    for (const std::string& w : wanted) {
+      if (id == w) ids.push_back(id);
+    }
+  }
+  return ids;
+}
+
+INSTANTIATE_TEST_SUITE_P(ObjectTasks, ObjectTaskTest, ::testing::ValuesIn(ObjectTaskIds()),
+                         [](const auto& info) {
+                           std::string name = info.param;
+                           for (char& c : name) c = c == '-' ? '_' : c;
+                           return name;
+                         });
+
+}  // namespace
+}  // namespace manyworlds::manipulation
