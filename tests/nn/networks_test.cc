@@ -9,6 +9,8 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/gaussian_policy.h"
 #include "manyworlds/nn/mlp.h"
+#include "manyworlds/nn/pcgrad.h"
+#include "manyworlds/nn/task_encoder.h"
 #include "manyworlds/nn/twin_critic.h"
 
 namespace manyworlds::nn {
@@ -259,6 +261,251 @@ TEST(GaussianPolicyTest, LogStdBoundedAndMeanActionDeterministic) {
   EXPECT_LE(s.action.abs().max().item<float>(), 1.0f);
   EXPECT_TRUE(s.log_prob.requires_grad());
   EXPECT_EQ(BoundLogStd(torch::zeros({1}), -20, 2).item<float>(), -9.0f);
+}
+
+
+// ---- multi-head outputs ----------------------------------------------------
+
+TEST(SelectHeadsTest, PicksEachRowsBlockByHand) {
+  // Two rows, three heads of two values: row 0 takes head 2, row 1 head 0.
+  torch::Tensor out = torch::arange(12, torch::kFloat32).view({2, 6});
+  torch::Tensor picked = SelectHeads(out, torch::tensor({2, 0}, torch::kInt64), 2);
+  EXPECT_TRUE(torch::equal(picked, torch::tensor({4.0f, 5.0f, 6.0f, 7.0f}).view({2, 2})));
+  // Ensemble outputs (E, B, H * k).
+  torch::Tensor ens = torch::arange(12, torch::kFloat32).view({2, 2, 3});
+  torch::Tensor q = SelectHeads(ens, torch::tensor({1, 2}, torch::kInt64), 1);
+  EXPECT_TRUE(torch::equal(q, torch::tensor({1.0f, 5.0f, 7.0f, 11.0f}).view({2, 2, 1})));
+  EXPECT_THROW(SelectHeads(out, torch::tensor({0}, torch::kInt64), 2), Error);
+}
+
+TEST(GaussianPolicyTest, MultiHeadOutputEqualsRunningTheChosenHeadAlone) {
+  torch::manual_seed(21);
+  GaussianPolicyOptions o;
+  o.obs_dim = 5;
+  o.action_dim = 2;
+  o.hidden_dim = 8;
+  o.num_layers = 2;
+  o.num_heads = 3;
+  GaussianPolicy policy(o);
+  const std::vector<torch::Tensor>& p = policy->trunk()->detached_params();
+  ASSERT_EQ(p.back().size(0), 3 * 4);  // one (mean, raw log-std) block per head
+  torch::Tensor obs = torch::randn({6, 5});
+  torch::Tensor head = torch::tensor({0, 1, 2, 2, 1, 0}, torch::kInt64);
+  PolicyOutput out = policy->forward(obs, head);
+  for (int64_t b = 0; b < 6; ++b) {
+    const int64_t h = head[b].item<int64_t>();
+    // The shared trunk, then only head h's columns of the last layer.
+    std::vector<torch::Tensor> alone(p.begin(), p.end());
+    alone[4] = p[4].narrow(1, 4 * h, 4);
+    alone[5] = p[5].narrow(0, 4 * h, 4);
+    torch::Tensor ref = LinearStack(obs.narrow(0, b, 1), alone);
+    EXPECT_TRUE(torch::allclose(out.mean[b], ref[0].narrow(0, 0, 2), 1e-5, 1e-6)) << b;
+    EXPECT_TRUE(torch::allclose(out.log_std[b], BoundLogStd(ref[0].narrow(0, 2, 2), -20, 2),
+                                1e-5, 1e-6))
+        << b;
+  }
+  EXPECT_THROW(policy->forward(obs), Error);  // a multi-head forward needs heads
+}
+
+TEST(TwinCriticTest, MultiHeadQEqualsTheChosenHeadOfEachCritic) {
+  torch::manual_seed(22);
+  TwinCriticOptions o;
+  o.obs_dim = 3;
+  o.action_dim = 2;
+  o.hidden_dim = 8;
+  o.num_layers = 1;
+  o.num_heads = 4;
+  TwinCritic critic(o);
+  torch::Tensor obs = torch::randn({5, 3});
+  torch::Tensor act = torch::rand({5, 2});
+  torch::Tensor head = torch::tensor({3, 0, 1, 3, 2}, torch::kInt64);
+  torch::Tensor q = critic->forward(obs, act, head);
+  ASSERT_EQ(q.sizes(), torch::IntArrayRef({2, 5}));
+  const std::vector<torch::Tensor>& p = critic->online()->detached_params();
+  for (int64_t e = 0; e < 2; ++e) {
+    for (int64_t b = 0; b < 5; ++b) {
+      const int64_t h = head[b].item<int64_t>();
+      std::vector<torch::Tensor> alone = {p[0][e], p[1][e], p[2][e].narrow(1, h, 1),
+                                          p[3][e].narrow(1, h, 1)};
+      torch::Tensor ref = LinearStack(torch::cat({obs, act}, -1).narrow(0, b, 1), alone);
+      EXPECT_NEAR(q[e][b].item<float>(), ref.item<float>(), 1e-5) << e << " " << b;
+    }
+  }
+  torch::NoGradGuard no_grad;
+  EXPECT_TRUE(torch::allclose(critic->TargetQ(obs, act, head), q));
+}
+
+// ---- task encoder and mixture of encoders -----------------------------------
+
+TEST(TaskEncoderTest, EncodesEveryTaskThroughReluAndMlp) {
+  TaskEncoderOptions o;
+  o.num_tasks = 3;
+  o.embedding_dim = 4;
+  o.hidden_dim = 6;
+  o.num_layers = 2;
+  o.output_dim = 5;
+  TaskEncoder enc(o, at::detail::createCPUGenerator(3));
+  torch::Tensor z = enc->forward();
+  ASSERT_EQ(z.sizes(), torch::IntArrayRef({3, 5}));
+  const std::vector<torch::Tensor>& p = enc->detached_params();
+  std::vector<torch::Tensor> mlp(p.begin() + 1, p.end());
+  EXPECT_TRUE(torch::allclose(z, LinearStack(torch::relu(p[0]), mlp), 1e-5, 1e-6));
+  // Gradients reach the embedding rows that are used, and only those.
+  enc->ZeroGrad();
+  z.index_select(0, torch::tensor({0, 2}, torch::kInt64)).sum().backward();
+  torch::Tensor g = enc->embedding().grad();
+  EXPECT_GT(g[0].abs().sum().item<float>() + g[2].abs().sum().item<float>(), 0.0f);
+  EXPECT_EQ(g[1].abs().sum().item<float>(), 0.0f);
+  o.num_tasks = 0;
+  EXPECT_THROW(TaskEncoder{o}, ConfigError);
+}
+
+MixtureEncoderOptions TinyMixture() {
+  MixtureEncoderOptions o;
+  o.input_dim = 1;
+  o.context_dim = 1;
+  o.output_dim = 1;
+  o.num_layers = 0;  // each expert one linear map
+  o.num_experts = 2;
+  o.selector_num_layers = 0;
+  return o;
+}
+
+TEST(MixtureEncoderTest, WeightsAndMixtureMatchAHandComputation) {
+  MixtureEncoder moe(TinyMixture());
+  {
+    torch::NoGradGuard no_grad;
+    const std::vector<torch::Tensor>& p = moe->detached_params();
+    // experts: w (2, 1, 1), b (2, 1, 1): e1(x) = 2x, e2(x) = -x + 1.
+    p[0].copy_(torch::tensor({2.0f, -1.0f}).view({2, 1, 1}));
+    p[1].copy_(torch::tensor({0.0f, 1.0f}).view({2, 1, 1}));
+    // selector: logits = c [0, log 3].
+    p[2].copy_(torch::tensor({0.0f, static_cast<float>(std::log(3.0))}).view({1, 2}));
+    p[3].zero_();
+  }
+  torch::Tensor w = moe->Weights(torch::ones({1, 1}), moe->params());
+  EXPECT_NEAR(w[0][0].item<float>(), 0.25f, 1e-6);
+  EXPECT_NEAR(w[0][1].item<float>(), 0.75f, 1e-6);
+  // x = 2: e1 = 4, e2 = -1, mixture 0.25 * 4 + 0.75 * -1 = 0.25.
+  torch::Tensor mix = moe->Mix(torch::full({1, 1}, 2.0f), w, moe->params());
+  EXPECT_NEAR(mix.item<float>(), 0.25f, 1e-6);
+  // Temperature 2 halves the logits: weights 1 / (1 + sqrt 3), sqrt 3 / (1 + sqrt 3).
+  MixtureEncoderOptions hot = TinyMixture();
+  hot.temperature = 2.0;
+  MixtureEncoder moe2(hot);
+  moe2->flat().copy_(moe->flat());
+  torch::Tensor w2 = moe2->Weights(torch::ones({1, 1}), moe2->params());
+  EXPECT_NEAR(w2[0][0].item<float>(), 1.0 / (1.0 + std::sqrt(3.0)), 1e-6);
+}
+
+TEST(MixtureEncoderTest, RandomWeightsSumToOneAndExpertsRunAsOneBatch) {
+  MixtureEncoderOptions o;
+  o.input_dim = 7;
+  o.context_dim = 5;
+  o.output_dim = 6;
+  o.hidden_dim = 8;
+  o.num_experts = 3;
+  o.selector_hidden_dim = 4;
+  MixtureEncoder moe(o, at::detail::createCPUGenerator(9));
+  torch::Tensor w = moe->Weights(torch::randn({10, 5}) * 3, moe->params());
+  ASSERT_EQ(w.sizes(), torch::IntArrayRef({10, 3}));
+  EXPECT_TRUE(torch::allclose(w.sum(-1), torch::ones({10}), 1e-6, 1e-6));
+  EXPECT_GE(w.min().item<float>(), 0.0f);
+  torch::Tensor x = torch::randn({10, 7});
+  torch::Tensor experts = moe->Experts(x, moe->params());  // (3, 10, 6)
+  ASSERT_EQ(experts.sizes(), torch::IntArrayRef({3, 10, 6}));
+  torch::Tensor mix = moe->Mix(x, w, moe->params());
+  torch::Tensor ref = (w.t().unsqueeze(-1) * experts).sum(0);
+  EXPECT_TRUE(torch::allclose(mix, ref, 1e-5, 1e-6));
+  // Expert 1 alone equals its slice of the ensemble.
+  std::vector<torch::Tensor> one;
+  for (size_t i = 0; i < 6; ++i) one.push_back(moe->detached_params()[i][1]);
+  EXPECT_TRUE(torch::allclose(experts[1], LinearStack(x, one), 1e-5, 1e-6));
+}
+
+// ---- PCGrad ----------------------------------------------------------------
+
+TEST(PcGradTest, NonConflictingGradientsAreAveraged) {
+  at::Generator gen = at::detail::createCPUGenerator(0);
+  PcGradResult r =
+      ProjectConflictingGradients(torch::tensor({1.0f, 0.0f, 0.0f, 1.0f}).view({2, 2}), gen);
+  EXPECT_TRUE(torch::allclose(r.gradient, torch::tensor({0.5f, 0.5f})));
+  EXPECT_EQ(r.conflicts, 0);
+  EXPECT_EQ(r.projections, 0);
+  EXPECT_EQ(r.pairs, 2);
+}
+
+TEST(PcGradTest, ConflictingPairProjectedByHand) {
+  // g1 = (1, 0), g2 = (-1, 1): g1.g2 = -1.
+  // g1' = g1 + 1/2 g2 = (0.5, 0.5); g2' = g2 + 1/1 g1 = (0, 1); mean (0.25, 0.75).
+  at::Generator gen = at::detail::createCPUGenerator(0);
+  PcGradResult r =
+      ProjectConflictingGradients(torch::tensor({1.0f, 0.0f, -1.0f, 1.0f}).view({2, 2}), gen);
+  EXPECT_NEAR(r.gradient[0].item<float>(), 0.25f, 1e-7);
+  EXPECT_NEAR(r.gradient[1].item<float>(), 0.75f, 1e-7);
+  EXPECT_EQ(r.conflicts, 2);
+  EXPECT_EQ(r.projections, 2);
+  // One task: its gradient unchanged.
+  PcGradResult one = ProjectConflictingGradients(torch::tensor({{3.0f, -2.0f}}), gen);
+  EXPECT_TRUE(torch::equal(one.gradient, torch::tensor({3.0f, -2.0f})));
+  EXPECT_THROW(ProjectConflictingGradients(torch::zeros({2}), gen), Error);
+}
+
+TEST(PcGradTest, ThreeTasksFollowTheDrawnOrderByHand) {
+  // g0 = (1, 0), g1 = (-1, 1), g2 = (-1, -1); g0.g1 = g0.g2 = -1, g1.g2 = 0.
+  //  task 0, either order: + 1/2 g1 -> (0.5, 0.5), + 1/2 g2 -> (0, 0) (or the
+  //    mirror path): (0, 0).
+  //  task 1: g0 first: + g0 -> (0, 1), which now conflicts with g2:
+  //    + 1/2 g2 -> (-0.5, 0.5). g2 first: no conflict, then + g0 -> (0, 1).
+  //  task 2: g0 first -> (0, -1) -> + 1/2 g1 -> (-0.5, -0.5); g1 first -> (0, -1).
+  const torch::Tensor g = torch::tensor({1.0f, 0.0f, -1.0f, 1.0f, -1.0f, -1.0f}).view({3, 2});
+  for (uint64_t seed = 0; seed < 8; ++seed) {
+    at::Generator gen = at::detail::createCPUGenerator(seed);
+    at::Generator replay = gen.clone();
+    std::vector<std::vector<int64_t>> orders;
+    for (int i = 0; i < 3; ++i) {
+      torch::Tensor p = torch::randperm(3, replay, torch::kInt64);
+      orders.push_back(std::vector<int64_t>(p.data_ptr<int64_t>(), p.data_ptr<int64_t>() + 3));
+    }
+    auto before = [](const std::vector<int64_t>& order, int64_t a, int64_t b) {
+      for (int64_t j : order) {
+        if (j == a) return true;
+        if (j == b) return false;
+      }
+      return false;
+    };
+    const bool t1_g0_first = before(orders[1], 0, 2);
+    const bool t2_g0_first = before(orders[2], 0, 1);
+    const float x = (t1_g0_first ? -0.5f : 0.0f) + (t2_g0_first ? -0.5f : 0.0f);
+    const float y = (t1_g0_first ? 0.5f : 1.0f) + (t2_g0_first ? -0.5f : -1.0f);
+    PcGradResult r = ProjectConflictingGradients(g, gen);
+    EXPECT_NEAR(r.gradient[0].item<float>(), x / 3, 1e-6) << seed;
+    EXPECT_NEAR(r.gradient[1].item<float>(), y / 3, 1e-6) << seed;
+    EXPECT_EQ(r.conflicts, 4);  // (0,1), (1,0), (0,2), (2,0)
+    EXPECT_EQ(r.projections, 2 + (t1_g0_first ? 2 : 1) + (t2_g0_first ? 2 : 1)) << seed;
+  }
+}
+
+TEST(PcGradTest, MatchesDirectProjectionOnRandomGradients) {
+  torch::manual_seed(31);
+  torch::Tensor g = torch::randn({5, 40});
+  at::Generator gen = at::detail::createCPUGenerator(11);
+  at::Generator replay = gen.clone();
+  PcGradResult r = ProjectConflictingGradients(g, gen);
+  torch::Tensor gd = g.to(torch::kFloat64);
+  torch::Tensor sum = torch::zeros({40}, torch::kFloat64);
+  for (int64_t i = 0; i < 5; ++i) {
+    torch::Tensor gi = gd[i].clone();
+    torch::Tensor order = torch::randperm(5, replay, torch::kInt64);
+    for (int64_t n = 0; n < 5; ++n) {
+      const int64_t j = order[n].item<int64_t>();
+      const double dot = gi.dot(gd[j]).item<double>();
+      if (j != i && dot < 0) gi -= dot / gd[j].dot(gd[j]).item<double>() * gd[j];
+    }
+    sum += gi;
+  }
+  EXPECT_TRUE(torch::allclose(r.gradient.to(torch::kFloat64), sum / 5, 1e-5, 1e-6));
+  EXPECT_GT(r.conflicts, 0);
 }
 
 }  // namespace

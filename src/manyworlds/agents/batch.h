@@ -9,7 +9,9 @@
 namespace manyworlds::agents {
 
 struct Batch {
-  torch::Tensor obs;         // (B, obs_dim) float32; includes any task one-hot
+  // (B, obs_dim) float32: the env observation, never a task id (learners
+  // condition on task_index themselves).
+  torch::Tensor obs;
   torch::Tensor action;      // (B, action_dim) float32, in the policy's (-1, 1) range
   torch::Tensor reward;      // (B) float32
   torch::Tensor next_obs;    // (B, obs_dim) float32

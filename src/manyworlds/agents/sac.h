@@ -1,30 +1,53 @@
-// Soft actor-critic for one or many tasks (MTRL's MT-SAC structure).
+// Soft actor-critic for one or many tasks (MTRL's MT-SAC structure and its
+// multi-task variants).
 //
 //   SacLearner sac(config, obs_dim, action_dim, num_tasks);
-//   Metrics m = sac.Update(batch);             // one gradient step
-//   torch::Tensor a = sac.Act(obs, /*deterministic=*/false);
+//   Metrics m = sac.Update(batch);                       // one gradient step
+//   torch::Tensor a = sac.Act(obs, task_index, /*deterministic=*/false);
+//
+// Observations never carry a task id: obs is the env observation (B,
+// obs_dim) and the task is Batch.task_index / the task_index argument. The
+// learner conditions on the task as config.architecture says (see
+// sac_config.h): it builds the networks' input x(s, task) (the observation
+// with a one-hot, a learned task encoding, or a CARE mixture encoding) and,
+// for "multihead", picks each row's output head by task.
 //
 // One update, in MTRL's order:
 //  1. critic target y = r + discount (1 - done) (min_j Q'_j(s', a') - alpha log pi(a'|s'))
-//     with a' ~ pi(.|s') and the target critics, no gradient;
-//  2. critic loss MSE(Q1, y) + MSE(Q2, y), one backward, fused Adam step;
+//     with a' ~ pi(.|s') and the target critics (for "moe" also the target
+//     copy of the mixture encoder), no gradient;
+//  2. critic loss MSE(Q1, y) + MSE(Q2, y), one backward into the critics and
+//     any encoders (task encoder, mixture encoder), fused Adam steps;
 //  3. every actor_update_freq updates: actor loss mean(alpha log pi(a|s) -
-//     min_j Q_j(s, a)) with the updated critics run on detached weights (the
-//     backward reaches the action but computes no critic weight gradients),
-//     and temperature loss mean(alpha (-log pi - target_entropy)) whose
-//     gradient in log-alpha is computed in closed form;
-//  4. every critic_target_update_freq updates: Polyak update of the targets.
+//     min_j Q_j(s, a)) with the updated critics run on detached weights and
+//     detached encodings (the backward reaches the action but computes no
+//     critic or encoder gradients), and temperature loss mean(alpha (-log pi
+//     - target_entropy)) whose gradient in log-alpha is computed in closed
+//     form;
+//  4. every critic_target_update_freq updates: Polyak update of the target
+//     critics (and of the target mixture encoder, with the same tau; MTRL
+//     uses a separate encoder_tau of 0.05 there).
 // Temperatures are per task with disentangled_alpha, indexed by task_index.
 //
-// Metrics: critic_loss, q_mean, and on actor steps actor_loss, alpha (mean
-// temperature used), alpha_loss, entropy (-mean log pi).
+// With config.pcgrad, steps 2 and 3 compute one gradient per task present in
+// the batch (the mean loss over that task's samples), combine them with
+// PCGrad (nn/pcgrad.h; random orders from generator()) and step with the
+// combined gradient. The temperature update is unchanged. This costs one
+// backward per task present.
 //
-// The learner calls nn::ConfigureTorchThreads() (intra-op threads = 1, GEMM
-// threads from OpenBLAS); see nn/threads.h. Not thread-safe.
+// Metrics: critic_loss, q_mean, and on actor steps actor_loss, alpha (mean
+// temperature used), alpha_loss, entropy (-mean log pi). With pcgrad also
+// pcgrad_conflicts (fraction of ordered task pairs whose critic gradients
+// conflict, g_i . g_j < 0) and, on actor steps, pcgrad_actor_conflicts.
+//
+// The learner calls nn::ConfigureTorchThreads() (see nn/threads.h). Not
+// thread-safe.
 #ifndef MANYWORLDS_AGENTS_SAC_H_
 #define MANYWORLDS_AGENTS_SAC_H_
 
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include <torch/torch.h>
 
@@ -33,6 +56,7 @@
 #include "manyworlds/agents/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
 #include "manyworlds/nn/gaussian_policy.h"
+#include "manyworlds/nn/task_encoder.h"
 #include "manyworlds/nn/twin_critic.h"
 
 namespace manyworlds::agents {
@@ -58,14 +82,29 @@ class SacLearner {
   // if the critic loss exceeds config.max_critic_loss (before any step).
   Metrics Update(const Batch& batch);
 
-  // Actions in (-1, 1) for obs (B, obs_dim) or (obs_dim): sampled, or
-  // tanh(mean) when deterministic. Runs under InferenceMode; the result is
-  // an inference tensor (copy it out, do not feed it to autograd).
+  // Actions in (-1, 1) for obs (B, obs_dim) of tasks task_index (B) int64
+  // in [0, num_tasks), or obs (obs_dim) with a one-element task_index
+  // (gives (action_dim)): sampled, or tanh(mean) when deterministic. Runs
+  // under InferenceMode; the result is an inference tensor (copy it out, do
+  // not feed it to autograd). Throws Error on bad shapes or task indices.
+  torch::Tensor Act(const torch::Tensor& obs, const torch::Tensor& task_index,
+                    bool deterministic);
+  // Single-task form (task 0); throws Error when num_tasks > 1.
   torch::Tensor Act(const torch::Tensor& obs, bool deterministic);
 
   // The critic target y (B) of step 1, drawing a' from this learner's
   // generator. Exposed for tests and diagnostics.
   torch::Tensor CriticTarget(const Batch& batch);
+
+  // The task-conditioned network input x(obs, task) (B, input_dim()) built
+  // with the online (or, for "moe", the target) encoders. Differentiable in
+  // the encoders when grad mode is on. Exposed for tests.
+  torch::Tensor NetworkInput(const torch::Tensor& obs, const torch::Tensor& task_index,
+                             bool target = false) const;
+  // Width of NetworkInput: obs_dim (+ num_tasks for "mlp" with several
+  // tasks, + task_embedding_dim for "task_encoder"), encoder_dim +
+  // task_embedding_dim for "moe".
+  int64_t input_dim() const { return input_dim_; }
 
   // Temperatures exp(log_alpha): (num_tasks) if disentangled, else (1).
   torch::Tensor Alpha() const { return log_alpha_.exp(); }
@@ -78,31 +117,58 @@ class SacLearner {
 
   nn::GaussianPolicy& actor() { return actor_; }
   nn::TwinCritic& critic() { return critic_; }
-  // Drives initialisation and every sampled action.
+  // Empty holders (nullptr) unless the architecture uses them: the task
+  // encoder for "task_encoder" and "moe", the mixture encoder and its target
+  // copy for "moe".
+  nn::TaskEncoder& task_encoder() { return task_encoder_; }
+  nn::MixtureEncoder& encoder() { return encoder_; }
+  nn::MixtureEncoder& encoder_target() { return encoder_target_; }
+  // Drives initialisation, every sampled action and the PCGrad orders.
   at::Generator& generator() { return generator_; }
 
-  // Full training state: networks, targets, temperatures, optimizers,
-  // update count, generator. Load throws Error on a size mismatch.
+  // Full training state: networks, encoders, targets, temperatures,
+  // optimizers, update count, generator. Load throws Error on a checkpoint
+  // of another architecture, task count or size.
   void Save(torch::serialize::OutputArchive& archive) const;
   void Load(torch::serialize::InputArchive& archive);
 
  private:
+  enum class Arch { kMlp, kMultiHead, kTaskEncoder, kMoe };
+
+  // What the critic loss trains: the online critics, then the encoders the
+  // architecture has, each with its optimizer. Built on demand (a moved
+  // learner must not keep pointers into its old self).
+  std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> CriticGroup();
   // Per-sample temperatures (B), or (1) when shared.
   torch::Tensor SampleAlpha(const torch::Tensor& task_index) const;
   torch::Tensor CriticTargetWithAlpha(const Batch& batch, const torch::Tensor& alpha);
+  // The task index for multi-head outputs, undefined otherwise.
+  torch::Tensor Heads(const torch::Tensor& task_index) const;
+  // Per-task gradients of `per_sample` (B) over the modules' flat buffers,
+  // combined by PCGrad into their flat gradients. Returns the conflict
+  // fraction.
+  double PcGradBackward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
+                        const std::vector<nn::FlatModule*>& modules);
 
   SacConfig config_;
+  Arch arch_;
   int64_t obs_dim_;
   int64_t action_dim_;
   int64_t num_tasks_;
+  int64_t input_dim_;
   double target_entropy_;
   at::Generator generator_;
   nn::GaussianPolicy actor_{nullptr};
   nn::TwinCritic critic_{nullptr};
+  nn::TaskEncoder task_encoder_{nullptr};
+  nn::MixtureEncoder encoder_{nullptr};
+  nn::MixtureEncoder encoder_target_{nullptr};
   torch::Tensor log_alpha_;  // (num_tasks) or (1)
   nn::FlatAdam actor_optimizer_;
   nn::FlatAdam critic_optimizer_;
   nn::FlatAdam alpha_optimizer_;
+  nn::FlatAdam task_encoder_optimizer_;
+  nn::FlatAdam encoder_optimizer_;
   int64_t num_updates_ = 0;
 };
 

@@ -1,5 +1,6 @@
 #include "manyworlds/agents/sac_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -43,6 +44,21 @@ void SacConfig::Validate() const {
   Require(critic_target_update_freq >= 1, "critic_target_update_freq", ">= 1",
           critic_target_update_freq);
   Require(!std::isnan(max_critic_loss), "max_critic_loss", "a number", max_critic_loss);
+  const std::vector<std::string>& archs = SacArchitectures();
+  if (std::find(archs.begin(), archs.end(), architecture) == archs.end()) {
+    std::string allowed;
+    for (const std::string& a : archs) allowed += (allowed.empty() ? "" : ", ") + a;
+    throw ConfigError("SacConfig.architecture must be one of " + allowed + ", got '" +
+                      architecture + "'");
+  }
+  Require(task_embedding_dim > 0, "task_embedding_dim", "> 0", task_embedding_dim);
+  Require(num_experts >= 1, "num_experts", ">= 1", num_experts);
+  Require(encoder_dim > 0, "encoder_dim", "> 0", encoder_dim);
+}
+
+const std::vector<std::string>& SacArchitectures() {
+  static const std::vector<std::string> names = {"mlp", "multihead", "task_encoder", "moe"};
+  return names;
 }
 
 }  // namespace manyworlds::agents

@@ -3,11 +3,32 @@
 // (0.9, 0.999), discount 0.99, tau 0.005, initial temperature 1.0, batch 128
 // (MTRL's MT10 command uses 128 per task), target entropy -|A|, log-std in
 // [-20, 2], actor and target updated every step.
+//
+// Task conditioning (`architecture`); the learner builds it from the task
+// index, observations never carry a task id:
+//   "mlp"          MT-SAC: one-hot task id appended to the observation
+//                  inside the learner (only when num_tasks > 1);
+//   "multihead"    shared trunk, one output head per task for the actor and
+//                  both critics (all heads one product, chosen by task);
+//   "task_encoder" learned task encoding (Embedding -> ReLU -> MLP, width
+//                  task_embedding_dim) concatenated to the observation,
+//                  trained through the critic loss only (the actor sees it
+//                  detached), as MTRL's task encoder;
+//   "moe"          CARE: num_experts state encoders (output encoder_dim)
+//                  mixed by softmax attention weights computed from the
+//                  task encoding; actor and critics see [mixture, task
+//                  encoding]. The encoders are trained through the critic
+//                  loss; the actor sees them detached (MTRL ties the actor's
+//                  encoder to the critic's).
+// pcgrad: per-task gradients of the critic and actor losses combined by
+// PCGrad (nn/pcgrad.h) before the fused Adam steps.
 #ifndef MANYWORLDS_AGENTS_SAC_CONFIG_H_
 #define MANYWORLDS_AGENTS_SAC_CONFIG_H_
 
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <vector>
 
 namespace manyworlds::agents {
 
@@ -36,9 +57,19 @@ struct SacConfig {
   double max_critic_loss = 1e8;
   uint64_t seed = 0;  // initialisation and action sampling
 
+  // Multi-task variants (see the top of this file).
+  std::string architecture = "mlp";  // mlp | multihead | task_encoder | moe
+  int64_t task_embedding_dim = 50;   // task_encoder and moe
+  int64_t num_experts = 4;           // moe (CARE's MT10 command uses 4)
+  int64_t encoder_dim = 50;          // moe: output (and hidden) width of the experts
+  bool pcgrad = false;
+
   // Throws ConfigError naming the first bad field and its allowed range.
   void Validate() const;
 };
+
+// The allowed values of SacConfig::architecture, in documentation order.
+const std::vector<std::string>& SacArchitectures();
 
 }  // namespace manyworlds::agents
 

@@ -1,5 +1,6 @@
 #include "manyworlds/agents/sac_timing.h"
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -9,9 +10,10 @@
 
 namespace manyworlds::agents {
 
-double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int num_tasks,
-                      int updates) {
-  if (updates < 1) throw ConfigError("TimeSacUpdates: updates must be >= 1");
+SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int action_dim,
+                                  int num_tasks, int updates, int repeats) {
+  if (updates < 1) throw ConfigError("MeasureSacUpdates: updates must be >= 1");
+  if (repeats < 1) throw ConfigError("MeasureSacUpdates: repeats must be >= 1");
   SacLearner sac(config, obs_dim, action_dim, num_tasks);
   at::Generator gen = at::detail::createCPUGenerator(config.seed + 1);
   const int64_t b = config.batch_size;
@@ -30,10 +32,23 @@ double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int 
   }
   constexpr int kWarmup = 3;
   for (int i = 0; i < kWarmup; ++i) sac.Update(batches[i % kBatches]);
-  const auto start = std::chrono::steady_clock::now();
-  for (int i = 0; i < updates; ++i) sac.Update(batches[i % kBatches]);
-  const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
-  return updates / elapsed.count();
+  SacTimingResult result;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int i = 0; i < updates; ++i) sac.Update(batches[i % kBatches]);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
+    result.samples.push_back(updates / elapsed.count());
+  }
+  std::vector<double> sorted = result.samples;
+  std::sort(sorted.begin(), sorted.end());
+  const size_t n = sorted.size();
+  result.updates_per_s = n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  return result;
+}
+
+double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int num_tasks,
+                      int updates) {
+  return MeasureSacUpdates(config, obs_dim, action_dim, num_tasks, updates, 1).updates_per_s;
 }
 
 }  // namespace manyworlds::agents

@@ -2,14 +2,26 @@
 #ifndef MANYWORLDS_AGENTS_SAC_TIMING_H_
 #define MANYWORLDS_AGENTS_SAC_TIMING_H_
 
+#include <vector>
+
 #include "manyworlds/agents/sac_config.h"
 
 namespace manyworlds::agents {
 
-// Builds a SacLearner, runs 3 warm-up updates, then times `updates` updates
-// on random batches of config.batch_size (drawn beforehand, so only the
-// update is timed) and returns updates per second. Throws ConfigError on a
-// bad config, non-positive dims or updates < 1.
+struct SacTimingResult {
+  double updates_per_s = 0.0;   // median of samples
+  std::vector<double> samples;  // updates per second of each repeat, in run order
+};
+
+// Builds a SacLearner(config, obs_dim, action_dim, num_tasks), runs 3
+// warm-up updates, then times `repeats` runs of `updates` updates each on
+// random batches of config.batch_size (drawn beforehand and cycled, task
+// indices uniform over the tasks, so only the update is timed). Throws
+// ConfigError on a bad config, non-positive dims, updates < 1 or repeats < 1.
+SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int action_dim,
+                                  int num_tasks, int updates, int repeats);
+
+// One repeat of MeasureSacUpdates: updates per second.
 double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int num_tasks,
                       int updates);
 

@@ -42,33 +42,42 @@ GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,
     throw ConfigError("GaussianPolicy: action_dim must be > 0, got " +
                       std::to_string(options.action_dim));
   }
+  if (options.num_heads <= 0) {
+    throw ConfigError("GaussianPolicy: num_heads must be > 0, got " +
+                      std::to_string(options.num_heads));
+  }
   if (!(options.log_std_min < options.log_std_max)) {
     throw ConfigError("GaussianPolicy: log_std_min must be < log_std_max");
   }
   MlpOptions trunk;
   trunk.input_dim = options.obs_dim;
-  trunk.output_dim = 2 * options.action_dim;
+  trunk.output_dim = 2 * options.action_dim * options.num_heads;
   trunk.hidden_dim = options.hidden_dim;
   trunk.num_layers = options.num_layers;
   trunk_ = register_module("trunk", Mlp(trunk, generator));
 }
 
-PolicyOutput GaussianPolicyImpl::Forward(const torch::Tensor& obs,
+PolicyOutput GaussianPolicyImpl::Forward(const torch::Tensor& obs, const torch::Tensor& head,
                                          at::ArrayRef<torch::Tensor> params) const {
-  torch::Tensor out = trunk_->Forward(obs, params);
   const int64_t a = options_.action_dim;
+  torch::Tensor out = trunk_->Forward(obs, params);
+  if (options_.num_heads > 1) {
+    if (!head.defined()) throw Error("GaussianPolicy: a multi-head forward needs head indices");
+    out = SelectHeads(out, head, 2 * a);
+  }
   return {out.narrow(-1, 0, a),
           BoundLogStd(out.narrow(-1, a, a), options_.log_std_min, options_.log_std_max)};
 }
 
 SquashedSample GaussianPolicyImpl::Sample(const torch::Tensor& obs,
-                                          c10::optional<at::Generator> generator) {
-  PolicyOutput out = forward(obs);
+                                          c10::optional<at::Generator> generator,
+                                          const torch::Tensor& head) {
+  PolicyOutput out = forward(obs, head);
   return SampleSquashedGaussian(out.mean, out.log_std, generator);
 }
 
-torch::Tensor GaussianPolicyImpl::MeanAction(const torch::Tensor& obs) {
-  return torch::tanh(forward(obs).mean);
+torch::Tensor GaussianPolicyImpl::MeanAction(const torch::Tensor& obs, const torch::Tensor& head) {
+  return torch::tanh(forward(obs, head).mean);
 }
 
 }  // namespace manyworlds::nn

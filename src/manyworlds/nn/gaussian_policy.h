@@ -8,6 +8,10 @@
 //   log p(a) = log N(u) - sum_i log(1 - tanh(u_i)^2),
 // with log(1 - tanh(u)^2) = 2 (log 2 - u - softplus(-2u)), which stays finite
 // where 1 - tanh(u)^2 underflows in float.
+//
+// With num_heads > 1 the last linear map holds one output head per task
+// (MTRL's multi-head policy): the trunk computes all heads as one product,
+// (B, num_heads * 2A), and each row keeps the head named by `head` (B).
 #ifndef MANYWORLDS_NN_GAUSSIAN_POLICY_H_
 #define MANYWORLDS_NN_GAUSSIAN_POLICY_H_
 
@@ -46,6 +50,7 @@ struct GaussianPolicyOptions {
   int64_t num_layers = 3;
   double log_std_min = -20.0;
   double log_std_max = 2.0;
+  int64_t num_heads = 1;  // output heads; a forward then needs a head index
 };
 
 struct PolicyOutput {
@@ -59,12 +64,17 @@ class GaussianPolicyImpl : public torch::nn::Module {
   explicit GaussianPolicyImpl(const GaussianPolicyOptions& options,
                               c10::optional<at::Generator> generator = c10::nullopt);
 
-  // obs: (B, obs_dim).
-  PolicyOutput forward(const torch::Tensor& obs) { return Forward(obs, trunk_->params()); }
-  PolicyOutput Forward(const torch::Tensor& obs, at::ArrayRef<torch::Tensor> params) const;
-  SquashedSample Sample(const torch::Tensor& obs, c10::optional<at::Generator> generator);
+  // obs: (B, obs_dim); head: (B) int64 in [0, num_heads), required when
+  // num_heads > 1 and ignored (may be undefined) otherwise.
+  PolicyOutput forward(const torch::Tensor& obs, const torch::Tensor& head = {}) {
+    return Forward(obs, head, trunk_->params());
+  }
+  PolicyOutput Forward(const torch::Tensor& obs, const torch::Tensor& head,
+                       at::ArrayRef<torch::Tensor> params) const;
+  SquashedSample Sample(const torch::Tensor& obs, c10::optional<at::Generator> generator,
+                        const torch::Tensor& head = {});
   // tanh(mean): the evaluation action.
-  torch::Tensor MeanAction(const torch::Tensor& obs);
+  torch::Tensor MeanAction(const torch::Tensor& obs, const torch::Tensor& head = {});
 
   // The network holding all parameters (flat buffer, functional forward).
   Mlp& trunk() { return trunk_; }

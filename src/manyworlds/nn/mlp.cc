@@ -32,32 +32,6 @@ std::vector<int64_t> Widths(const MlpOptions& o) {
   return widths;
 }
 
-// Layout w0, b0, w1, b1, ...; `ensemble` > 0 prefixes every shape with E and
-// gives biases a broadcast row: w (E, in, out), b (E, 1, out).
-std::vector<ParamSpec> Layout(const MlpOptions& o, int64_t ensemble) {
-  const std::vector<int64_t> widths = Widths(o);
-  std::vector<ParamSpec> specs;
-  for (size_t l = 0; l + 1 < widths.size(); ++l) {
-    const std::string suffix = std::to_string(l);
-    if (ensemble > 0) {
-      specs.push_back({"w" + suffix, {ensemble, widths[l], widths[l + 1]}});
-      specs.push_back({"b" + suffix, {ensemble, 1, widths[l + 1]}});
-    } else {
-      specs.push_back({"w" + suffix, {widths[l], widths[l + 1]}});
-      specs.push_back({"b" + suffix, {widths[l + 1]}});
-    }
-  }
-  return specs;
-}
-
-void InitWeights(FlatModule& module, c10::optional<at::Generator> generator) {
-  const std::vector<torch::Tensor>& views = module.detached_params();
-  for (size_t i = 0; i < views.size(); i += 2) {
-    InitOrthogonal(views[i], generator);
-    views[i + 1].zero_();
-  }
-}
-
 void CheckParams(at::ArrayRef<torch::Tensor> params, size_t expected) {
   if (params.size() != expected) {
     throw Error("MLP forward expects " + std::to_string(expected) + " parameter tensors, got " +
@@ -84,43 +58,99 @@ void InitOrthogonal(const torch::Tensor& weight, c10::optional<at::Generator> ge
   weight.copy_(rows >= cols ? q : q.t());
 }
 
-MlpImpl::MlpImpl(const MlpOptions& options, c10::optional<at::Generator> generator)
-    : FlatModule("Mlp"), options_(options) {
-  CheckOptions(options_, "Mlp");
-  options_.ensemble_size = 1;
-  InitFlat(Layout(options_, 0));
-  InitWeights(*this, generator);
+size_t AppendMlpLayout(std::vector<ParamSpec>& specs, const std::string& prefix,
+                       const MlpOptions& options, bool ensemble) {
+  CheckOptions(options, "Mlp");
+  // Layout w0, b0, w1, b1, ...; an ensemble prefixes every shape with E and
+  // gives biases a broadcast row: w (E, in, out), b (E, 1, out).
+  const std::vector<int64_t> widths = Widths(options);
+  const int64_t e = options.ensemble_size;
+  for (size_t l = 0; l + 1 < widths.size(); ++l) {
+    const std::string suffix = std::to_string(l);
+    if (ensemble) {
+      specs.push_back({prefix + "w" + suffix, {e, widths[l], widths[l + 1]}});
+      specs.push_back({prefix + "b" + suffix, {e, 1, widths[l + 1]}});
+    } else {
+      specs.push_back({prefix + "w" + suffix, {widths[l], widths[l + 1]}});
+      specs.push_back({prefix + "b" + suffix, {widths[l + 1]}});
+    }
+  }
+  return 2 * (widths.size() - 1);
 }
 
-torch::Tensor MlpImpl::Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const {
-  CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
+void InitMlpParams(at::ArrayRef<torch::Tensor> params, c10::optional<at::Generator> generator) {
+  torch::NoGradGuard no_grad;
+  for (size_t i = 0; i + 1 < params.size(); i += 2) {
+    InitOrthogonal(params[i], generator);
+    params[i + 1].zero_();
+  }
+}
+
+torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) {
+  if (params.empty() || params.size() % 2 != 0) {
+    throw Error("MlpForward: expects (w, b) pairs, got " + std::to_string(params.size()) +
+                " tensors");
+  }
+  const bool ensemble = params[0].dim() == 3;
   torch::Tensor h = x;
+  if (ensemble && h.dim() == 2) {
+    h = h.unsqueeze(0).expand({params[0].size(0), h.size(0), h.size(1)});
+  }
   for (size_t i = 0; i < params.size(); i += 2) {
-    h = torch::addmm(params[i + 1], h, params[i]);
+    h = ensemble ? torch::baddbmm(params[i + 1], h, params[i])
+                 : torch::addmm(params[i + 1], h, params[i]);
     // In place is safe: addmm's backward needs its inputs, not its output.
     if (i + 2 < params.size()) h.relu_();
   }
   return h;
 }
 
+torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, int64_t head_dim) {
+  const int64_t d = out.dim();
+  if ((d != 2 && d != 3) || out.size(-1) % head_dim != 0 || head.dim() != 1 ||
+      head.size(0) != out.size(-2)) {
+    throw Error("SelectHeads: expected out (B, H * k) or (E, B, H * k) and head (B)");
+  }
+  const int64_t heads = out.size(-1) / head_dim;
+  const int64_t b = out.size(-2);
+  if (d == 2) {
+    torch::Tensor index = head.view({b, 1, 1}).expand({b, 1, head_dim});
+    return out.view({b, heads, head_dim}).gather(1, index).squeeze(1);
+  }
+  const int64_t e = out.size(0);
+  torch::Tensor index = head.view({1, b, 1, 1}).expand({e, b, 1, head_dim});
+  return out.view({e, b, heads, head_dim}).gather(2, index).squeeze(2);
+}
+
+MlpImpl::MlpImpl(const MlpOptions& options, c10::optional<at::Generator> generator)
+    : FlatModule("Mlp"), options_(options) {
+  CheckOptions(options_, "Mlp");
+  options_.ensemble_size = 1;
+  std::vector<ParamSpec> specs;
+  AppendMlpLayout(specs, "", options_, /*ensemble=*/false);
+  InitFlat(std::move(specs));
+  InitMlpParams(detached_params(), generator);
+}
+
+torch::Tensor MlpImpl::Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const {
+  CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
+  return MlpForward(x, params);
+}
+
 EnsembleMlpImpl::EnsembleMlpImpl(const MlpOptions& options,
                                  c10::optional<at::Generator> generator)
     : FlatModule("EnsembleMlp"), options_(options) {
   CheckOptions(options_, "EnsembleMlp");
-  InitFlat(Layout(options_, options_.ensemble_size));
-  InitWeights(*this, generator);
+  std::vector<ParamSpec> specs;
+  AppendMlpLayout(specs, "", options_, /*ensemble=*/true);
+  InitFlat(std::move(specs));
+  InitMlpParams(detached_params(), generator);
 }
 
 torch::Tensor EnsembleMlpImpl::Forward(const torch::Tensor& x,
                                        at::ArrayRef<torch::Tensor> params) const {
   CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
-  const int64_t e = options_.ensemble_size;
-  torch::Tensor h = x.dim() == 2 ? x.unsqueeze(0).expand({e, x.size(0), x.size(1)}) : x;
-  for (size_t i = 0; i < params.size(); i += 2) {
-    h = torch::baddbmm(params[i + 1], h, params[i]);
-    if (i + 2 < params.size()) h.relu_();
-  }
-  return h;
+  return MlpForward(x, params);
 }
 
 }  // namespace manyworlds::nn

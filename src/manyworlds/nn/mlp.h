@@ -18,6 +18,8 @@
 #define MANYWORLDS_NN_MLP_H_
 
 #include <cstdint>
+#include <string>
+#include <vector>
 
 #include <torch/torch.h>
 
@@ -36,6 +38,29 @@ struct MlpOptions {
 // Fills a 2-D tensor (or each matrix of a 3-D stack) with a (semi-)orthogonal
 // matrix drawn from `generator` (the default CPU generator if none).
 void InitOrthogonal(const torch::Tensor& weight, c10::optional<at::Generator> generator);
+
+// Building blocks for networks that hold several MLPs in one flat buffer
+// (task encoders, mixtures of encoders).
+//
+// Appends the layout of one MLP to `specs`, names prefixed by `prefix`
+// (w0, b0, ...; torch parameter names may not contain dots); with
+// `ensemble` true every shape gets a leading options.ensemble_size and
+// biases a broadcast row. Returns the number of tensors appended
+// (2 * (num_layers + 1)). Throws ConfigError on bad options.
+size_t AppendMlpLayout(std::vector<ParamSpec>& specs, const std::string& prefix,
+                       const MlpOptions& options, bool ensemble);
+// Orthogonal weights, zero biases, for a (w, b, w, b, ...) list of views.
+void InitMlpParams(at::ArrayRef<torch::Tensor> params, c10::optional<at::Generator> generator);
+// [Linear -> ReLU] x n -> Linear with params (w0, b0, ...) in [in, out]
+// layout: x (..., in) -> (..., out) for 2-D weights; for 3-D (E, in, out)
+// weights, x is (B, in) shared by all members or (E, B, in) -> (E, B, out).
+torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params);
+
+// Multi-head outputs: `out` holds num_heads blocks of `head_dim` values in
+// its last dimension, (B, num_heads * head_dim) or (E, B, num_heads *
+// head_dim); returns the block of head[b] for each row b: (B, head_dim) or
+// (E, B, head_dim). head: (B) int64 in [0, num_heads) (not range-checked).
+torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, int64_t head_dim);
 
 class MlpImpl : public FlatModule {
  public:

@@ -1,16 +1,55 @@
 // Thread configuration for libtorch on small CPU machines.
+//
+// Two thread pools can parallelise a network update: libtorch's intra-op
+// pool (OpenMP; elementwise ops, reductions, and GEMMs when libtorch does
+// them itself) and the BLAS library's own pool (OpenBLAS-pthread on Debian,
+// sized by OPENBLAS_NUM_THREADS, default one thread per core), which runs
+// every GEMM. Nested, they oversubscribe the CPU: on 2 cores a SAC update
+// took 84 ms with OpenMP 2 + OpenBLAS 2 against 16.5 ms with OpenMP 1 +
+// OpenBLAS 2 (performance.md §5.2). So at most one of them may be > 1.
+//
+// Measured with `manyworlds bench agent` on the 2-core build machine (AMD
+// EPYC, libtorch 1.13.1, OpenBLAS 0.3.21 pthread "Haswell" kernels; SAC
+// update, batch 128, 3 x 400, obs 39, action 4, one task; median of 5 x 20
+// updates, 2-4 interleaved rounds; the machine was shared, +-15%):
+//   torch 1, BLAS 2 (the default)        70.7 - 74.0 updates/s  (13.8 ms)
+//   torch 1, BLAS 2 set at run time      72.1 - 72.4
+//   torch 2, BLAS 1                      55.6 - 58.8  (the intra-op pool
+//                                        runs the two critics' baddbmm in
+//                                        parallel, but GEMMs are 1-thread)
+//   torch 1, BLAS 1 set at run time      58.9 - 61.5
+//   torch 1, OPENBLAS_NUM_THREADS=1      35.8 - 37.0  (slower than setting 1
+//                                        thread at run time; not explained)
+//   torch 2, BLAS 2                      refused by SetThreads (84 ms in
+//                                        performance.md §5.2)
+// The default (ConfigureTorchThreads) is therefore torch 1 with BLAS left at
+// its own default (one thread per core).
 #ifndef MANYWORLDS_NN_THREADS_H_
 #define MANYWORLDS_NN_THREADS_H_
 
+#include <string>
+
 namespace manyworlds::nn {
 
-// Sets libtorch's intra-op (OpenMP) pool to one thread and leaves GEMM
-// parallelism to the BLAS library's own pool (OPENBLAS_NUM_THREADS, default
-// one thread per core). Both layers default to one thread per core and, when
-// nested, oversubscribe the CPU: on 2 cores a SAC update took 84 ms with
-// OpenMP 2 + OpenBLAS 2 versus 16.5 ms with OpenMP 1 + OpenBLAS 2, the
-// fastest setting measured (performance.md §5.2). Idempotent and cheap.
+// The default: libtorch's intra-op pool to one thread, GEMM parallelism left
+// to the BLAS library's pool (OPENBLAS_NUM_THREADS, default one thread per
+// core). Does nothing after SetThreads (an explicit choice wins). Idempotent
+// and cheap; every learner calls it.
 void ConfigureTorchThreads();
+
+// An explicit configuration: torch intra-op threads and, when the BLAS is
+// OpenBLAS, its thread count (blas_threads 0 leaves the BLAS alone). Throws
+// ConfigError if a count is negative, torch_threads is 0, or both are > 1
+// (nested pools oversubscribe the CPU). Process-wide.
+void SetThreads(int torch_threads, int blas_threads);
+
+struct ThreadInfo {
+  int torch_intra_op = 0;
+  int torch_inter_op = 0;
+  int blas_threads = -1;  // -1 when the BLAS library cannot say
+  std::string blas;       // openblas_get_config(), or "unknown"
+};
+ThreadInfo CurrentThreads();
 
 }  // namespace manyworlds::nn
 

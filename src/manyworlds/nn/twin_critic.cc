@@ -1,15 +1,32 @@
 #include "manyworlds/nn/twin_critic.h"
 
+#include <string>
+
+#include "manyworlds/core/error.h"
 #include "manyworlds/nn/flat_optim.h"
 
 namespace manyworlds::nn {
+namespace {
+
+// (2, B, heads) -> (2, B): the head of each row.
+torch::Tensor Heads(const torch::Tensor& out, const torch::Tensor& head, int64_t num_heads) {
+  if (num_heads == 1) return out.squeeze(-1);
+  if (!head.defined()) throw Error("TwinCritic: a multi-head forward needs head indices");
+  return SelectHeads(out, head, 1).squeeze(-1);
+}
+
+}  // namespace
 
 TwinCriticImpl::TwinCriticImpl(const TwinCriticOptions& options,
                                c10::optional<at::Generator> generator)
     : torch::nn::Module("TwinCritic"), options_(options) {
   MlpOptions mlp;
   mlp.input_dim = options.obs_dim + options.action_dim;
-  mlp.output_dim = 1;
+  if (options.num_heads <= 0) {
+    throw ConfigError("TwinCritic: num_heads must be > 0, got " +
+                      std::to_string(options.num_heads));
+  }
+  mlp.output_dim = options.num_heads;
   mlp.hidden_dim = options.hidden_dim;
   mlp.num_layers = options.num_layers;
   mlp.ensemble_size = 2;
@@ -21,14 +38,16 @@ TwinCriticImpl::TwinCriticImpl(const TwinCriticOptions& options,
 }
 
 torch::Tensor TwinCriticImpl::Q(const torch::Tensor& obs, const torch::Tensor& action,
+                                const torch::Tensor& head,
                                 at::ArrayRef<torch::Tensor> params) const {
-  return online_->Forward(torch::cat({obs, action}, -1), params).squeeze(-1);
+  return Heads(online_->Forward(torch::cat({obs, action}, -1), params), head,
+               options_.num_heads);
 }
 
-torch::Tensor TwinCriticImpl::TargetQ(const torch::Tensor& obs,
-                                      const torch::Tensor& action) const {
-  return target_->Forward(torch::cat({obs, action}, -1), target_->detached_params())
-      .squeeze(-1);
+torch::Tensor TwinCriticImpl::TargetQ(const torch::Tensor& obs, const torch::Tensor& action,
+                                      const torch::Tensor& head) const {
+  return Heads(target_->Forward(torch::cat({obs, action}, -1), target_->detached_params()),
+               head, options_.num_heads);
 }
 
 void TwinCriticImpl::UpdateTarget(double tau) {

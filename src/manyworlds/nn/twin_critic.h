@@ -1,5 +1,8 @@
 // Twin Q critics Q(s, a) with target copies, evaluated as one batched
 // product per layer (an EnsembleMlp of size 2 over concat(obs, action)).
+// With num_heads > 1 each critic's last linear map holds one Q head per task
+// (MTRL's multi-head critic), all heads computed as one product and the head
+// of each row chosen by `head` (B).
 #ifndef MANYWORLDS_NN_TWIN_CRITIC_H_
 #define MANYWORLDS_NN_TWIN_CRITIC_H_
 
@@ -16,6 +19,7 @@ struct TwinCriticOptions {
   int64_t action_dim = 0;
   int64_t hidden_dim = 400;
   int64_t num_layers = 3;
+  int64_t num_heads = 1;
 };
 
 class TwinCriticImpl : public torch::nn::Module {
@@ -25,15 +29,19 @@ class TwinCriticImpl : public torch::nn::Module {
                           c10::optional<at::Generator> generator = c10::nullopt);
 
   // obs (B, obs_dim), action (B, action_dim) -> (2, B), both online critics.
-  torch::Tensor forward(const torch::Tensor& obs, const torch::Tensor& action) {
-    return Q(obs, action, online_->params());
+  // head: (B) int64 in [0, num_heads), required when num_heads > 1 and
+  // ignored (may be undefined) otherwise.
+  torch::Tensor forward(const torch::Tensor& obs, const torch::Tensor& action,
+                        const torch::Tensor& head = {}) {
+    return Q(obs, action, head, online_->params());
   }
   // With explicit parameters, e.g. online()->detached_params() for an actor
   // loss that must not produce critic weight gradients.
-  torch::Tensor Q(const torch::Tensor& obs, const torch::Tensor& action,
+  torch::Tensor Q(const torch::Tensor& obs, const torch::Tensor& action, const torch::Tensor& head,
                   at::ArrayRef<torch::Tensor> params) const;
   // Target critics; call under NoGradGuard / InferenceMode. (2, B).
-  torch::Tensor TargetQ(const torch::Tensor& obs, const torch::Tensor& action) const;
+  torch::Tensor TargetQ(const torch::Tensor& obs, const torch::Tensor& action,
+                        const torch::Tensor& head = {}) const;
   // target <- (1 - tau) target + tau online, one loop over the flat buffers.
   void UpdateTarget(double tau);
 

@@ -1,0 +1,377 @@
+// Multi-task SAC: task conditioning per architecture, PCGrad, checkpoints,
+// and a contextual bandit that needs the task id.
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "manyworlds/agents/sac.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
+
+namespace manyworlds::agents {
+namespace {
+
+const std::vector<std::string> kArchitectures = {"mlp", "multihead", "task_encoder", "moe"};
+
+SacConfig Tiny(const std::string& architecture, bool pcgrad = false) {
+  SacConfig c;
+  c.hidden_dim = 16;
+  c.num_layers = 2;
+  c.task_embedding_dim = 6;
+  c.encoder_dim = 5;
+  c.num_experts = 3;
+  c.architecture = architecture;
+  c.pcgrad = pcgrad;
+  c.seed = 1;
+  return c;
+}
+
+Batch RandomBatch(int64_t b, int64_t obs_dim, int64_t action_dim, int64_t num_tasks,
+                  uint64_t seed) {
+  at::Generator gen = at::detail::createCPUGenerator(seed);
+  Batch batch;
+  batch.obs = torch::randn({b, obs_dim}, gen, torch::kFloat32);
+  batch.action = torch::rand({b, action_dim}, gen, torch::kFloat32) * 2 - 1;
+  batch.reward = torch::randn({b}, gen, torch::kFloat32);
+  batch.next_obs = torch::randn({b, obs_dim}, gen, torch::kFloat32);
+  batch.done = torch::zeros({b});
+  batch.task_index = torch::randint(num_tasks, {b}, gen, torch::kInt64);
+  return batch;
+}
+
+std::string Archive(const SacLearner& sac) {
+  torch::serialize::OutputArchive out;
+  sac.Save(out);
+  std::stringstream stream;
+  out.save_to(stream);
+  return stream.str();
+}
+
+void Restore(SacLearner& sac, const std::string& bytes) {
+  std::stringstream stream(bytes);
+  torch::serialize::InputArchive in;
+  in.load_from(stream);
+  sac.Load(in);
+}
+
+TEST(SacMultiTaskConfigTest, NewFieldsHaveDefaultsAndAreValidated) {
+  SacConfig c;
+  EXPECT_EQ(c.architecture, "mlp");
+  EXPECT_EQ(c.task_embedding_dim, 50);
+  EXPECT_EQ(c.num_experts, 4);
+  EXPECT_EQ(c.encoder_dim, 50);
+  EXPECT_FALSE(c.pcgrad);
+  for (const std::string& arch : kArchitectures) {
+    c.architecture = arch;
+    EXPECT_NO_THROW(c.Validate()) << arch;
+  }
+  c.architecture = "multi_head";
+  try {
+    c.Validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("architecture"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("mlp, multihead, task_encoder, moe"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("multi_head"), std::string::npos) << msg;
+  }
+  auto message = [](auto mutate) {
+    SacConfig c;
+    mutate(c);
+    try {
+      c.Validate();
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message([](SacConfig& c) { c.task_embedding_dim = 0; }).find("task_embedding_dim"),
+            std::string::npos);
+  EXPECT_NE(message([](SacConfig& c) { c.num_experts = 0; }).find("num_experts"),
+            std::string::npos);
+  EXPECT_NE(message([](SacConfig& c) { c.encoder_dim = -1; }).find("encoder_dim"),
+            std::string::npos);
+  EXPECT_THROW(SacLearner(Tiny("moe_v2"), 3, 1, 2), ConfigError);
+}
+
+TEST(SacMultiTaskTest, NetworkInputPerArchitecture) {
+  const torch::Tensor obs = torch::randn({4, 3});
+  const torch::Tensor task = torch::tensor({2, 0, 1, 2}, torch::kInt64);
+  // mlp: the one-hot is appended inside the learner, and only with tasks.
+  SacLearner mlp(Tiny("mlp"), 3, 2, 3);
+  EXPECT_EQ(mlp.input_dim(), 6);
+  EXPECT_TRUE(torch::equal(mlp.NetworkInput(obs, task),
+                           torch::cat({obs, torch::one_hot(task, 3).to(torch::kFloat32)}, 1)));
+  SacLearner single(Tiny("mlp"), 3, 2, 1);
+  EXPECT_EQ(single.input_dim(), 3);
+  EXPECT_TRUE(torch::equal(single.NetworkInput(obs, torch::zeros({4}, torch::kInt64)), obs));
+  // multihead: the observation only; the task picks heads.
+  SacLearner heads(Tiny("multihead"), 3, 2, 3);
+  EXPECT_EQ(heads.input_dim(), 3);
+  EXPECT_EQ(heads.actor()->options().num_heads, 3);
+  EXPECT_EQ(heads.critic()->options().num_heads, 3);
+  EXPECT_TRUE(heads.task_encoder().is_empty());
+  // task_encoder: obs and the task's encoding.
+  SacLearner enc(Tiny("task_encoder"), 3, 2, 3);
+  EXPECT_EQ(enc.input_dim(), 3 + 6);
+  torch::Tensor x = enc.NetworkInput(obs, task);
+  EXPECT_TRUE(torch::equal(x.narrow(1, 0, 3), obs));
+  torch::Tensor z = enc.task_encoder()->forward();
+  EXPECT_TRUE(torch::allclose(x.narrow(1, 3, 6), z.index_select(0, task)));
+  // moe: [mixture of the experts' encodings, task encoding].
+  SacLearner moe(Tiny("moe"), 3, 2, 3);
+  EXPECT_EQ(moe.input_dim(), 5 + 6);
+  torch::Tensor xm = moe.NetworkInput(obs, task);
+  torch::Tensor zm = moe.task_encoder()->forward();
+  nn::MixtureEncoderImpl& e = *moe.encoder();
+  torch::Tensor w = e.Weights(zm, e.params()).index_select(0, task);
+  EXPECT_TRUE(torch::allclose(w.sum(1), torch::ones({4}), 1e-6, 1e-6));
+  EXPECT_TRUE(torch::allclose(xm.narrow(1, 0, 5), e.Mix(obs, w, e.params()), 1e-5, 1e-6));
+  EXPECT_TRUE(torch::allclose(xm.narrow(1, 5, 6), zm.index_select(0, task)));
+  EXPECT_TRUE(torch::equal(moe.encoder()->flat(), moe.encoder_target()->flat()));
+}
+
+TEST(SacMultiTaskTest, ActTakesTaskIndices) {
+  for (const std::string& arch : kArchitectures) {
+    SacLearner sac(Tiny(arch), 3, 2, 3);
+    const torch::Tensor obs = torch::randn({5, 3});
+    const torch::Tensor task = torch::tensor({0, 1, 2, 1, 0}, torch::kInt64);
+    torch::Tensor a = sac.Act(obs, task, false);
+    ASSERT_EQ(a.sizes(), torch::IntArrayRef({5, 2})) << arch;
+    EXPECT_LE(a.abs().max().item<float>(), 1.0f);
+    // Deterministic, batched = row by row, and the task matters.
+    torch::Tensor det = sac.Act(obs, task, true);
+    for (int64_t b = 0; b < 5; ++b) {
+      EXPECT_TRUE(torch::allclose(det[b], sac.Act(obs[b], task.narrow(0, b, 1), true), 1e-5,
+                                  1e-6))
+          << arch;
+    }
+    const torch::Tensor same = obs[0].expand({3, 3});
+    torch::Tensor per_task = sac.Act(same, torch::arange(3, torch::kInt64), true);
+    EXPECT_FALSE(torch::allclose(per_task[0], per_task[1])) << arch;
+    EXPECT_THROW(sac.Act(obs, torch::full({5}, 3, torch::kInt64), true), Error) << arch;
+    EXPECT_THROW(sac.Act(obs, task.to(torch::kInt32), true), Error) << arch;
+    EXPECT_THROW(sac.Act(obs, true), Error) << arch;  // single-task form
+    SacLearner one(Tiny(arch), 3, 2, 1);
+    EXPECT_TRUE(torch::equal(one.Act(obs, true),
+                             one.Act(obs, torch::zeros({5}, torch::kInt64), true)));
+  }
+}
+
+TEST(SacMultiTaskTest, EveryArchitectureUpdatesItsNetworks) {
+  for (const std::string& arch : kArchitectures) {
+    for (bool pcgrad : {false, true}) {
+      SacLearner sac(Tiny(arch, pcgrad), 4, 2, 3);
+      const torch::Tensor actor0 = sac.actor()->trunk()->flat().clone();
+      const torch::Tensor critic0 = sac.critic()->online()->flat().clone();
+      Metrics m = sac.Update(RandomBatch(24, 4, 2, 3, 3));
+      for (const char* name :
+           {"critic_loss", "q_mean", "actor_loss", "alpha", "alpha_loss", "entropy"}) {
+        ASSERT_TRUE(m.Contains(name)) << arch << " " << name;
+        EXPECT_TRUE(std::isfinite(m.Get(name))) << arch << " " << name;
+      }
+      EXPECT_EQ(m.Contains("pcgrad_conflicts"), pcgrad) << arch;
+      if (pcgrad) {
+        EXPECT_GE(m.Get("pcgrad_conflicts"), 0.0);
+        EXPECT_LE(m.Get("pcgrad_conflicts"), 1.0);
+        EXPECT_TRUE(m.Contains("pcgrad_actor_conflicts"));
+      }
+      EXPECT_FALSE(torch::equal(actor0, sac.actor()->trunk()->flat())) << arch;
+      EXPECT_FALSE(torch::equal(critic0, sac.critic()->online()->flat())) << arch;
+      if (arch == "moe") {
+        // The target encoder follows by Polyak.
+        EXPECT_FALSE(torch::equal(sac.encoder()->flat(), sac.encoder_target()->flat()));
+      }
+    }
+  }
+}
+
+TEST(SacMultiTaskTest, TaskEncoderIsTrainedByTheCriticLossOnly) {
+  for (const std::string& arch : {std::string("task_encoder"), std::string("moe")}) {
+    // Tasks 0 and 1 in the batch, task 2 absent.
+    SacLearner sac(Tiny(arch), 4, 2, 3);
+    Batch batch = RandomBatch(16, 4, 2, 3, 4);
+    batch.task_index = torch::arange(16, torch::kInt64) % 2;
+    const torch::Tensor embedding0 = sac.task_encoder()->embedding().detach().clone();
+    sac.Update(batch);
+    const torch::Tensor embedding1 = sac.task_encoder()->embedding().detach();
+    EXPECT_FALSE(torch::equal(embedding0[0], embedding1[0])) << arch;
+    EXPECT_FALSE(torch::equal(embedding0[1], embedding1[1])) << arch;
+    EXPECT_TRUE(torch::equal(embedding0[2], embedding1[2])) << arch;
+
+    // The gradient by hand: the critic loss reaches the embedding of the
+    // tasks in the batch; the actor's input is detached.
+    nn::TaskEncoderImpl& enc = *sac.task_encoder();
+    enc.ZeroGrad();
+    const torch::Tensor y = sac.CriticTarget(batch);
+    const torch::Tensor q = sac.critic()->forward(sac.NetworkInput(batch.obs, batch.task_index),
+                                                  batch.action);
+    (2.0 * (q - y).square().mean()).backward();
+    const torch::Tensor grad = enc.embedding().grad();
+    EXPECT_GT(grad[0].abs().sum().item<float>(), 0.0f) << arch;
+    EXPECT_EQ(grad[2].abs().sum().item<float>(), 0.0f) << arch;
+  }
+}
+
+TEST(SacMultiTaskTest, PcGradCombinesPerTaskCriticGradients) {
+  // After Update the critic's flat gradient holds the combined gradient; a
+  // twin (same state) recomputes the per-task gradients by hand.
+  SacLearner a(Tiny("mlp", /*pcgrad=*/true), 4, 2, 3);
+  SacLearner b(Tiny("mlp", /*pcgrad=*/true), 4, 2, 3);
+  Restore(b, Archive(a));
+  Batch batch = RandomBatch(30, 4, 2, 3, 6);
+  a.Update(batch);
+  const torch::Tensor y = b.CriticTarget(batch);
+  const torch::Tensor q = b.critic()->forward(b.NetworkInput(batch.obs, batch.task_index),
+                                              batch.action);
+  nn::EnsembleMlpImpl& online = *b.critic()->online();
+  std::vector<torch::Tensor> rows;
+  for (int64_t t = 0; t < 3; ++t) {
+    const torch::Tensor mask = (batch.task_index == t).to(torch::kFloat32);
+    const torch::Tensor loss = ((q - y).square().sum(0) * mask).sum() / mask.sum();
+    online.ZeroGrad();
+    loss.backward({}, /*retain_graph=*/true);
+    rows.push_back(online.flat_grad().clone());
+  }
+  const nn::PcGradResult expected =
+      nn::ProjectConflictingGradients(torch::stack(rows), b.generator());
+  EXPECT_TRUE(torch::allclose(a.critic()->online()->flat_grad(), expected.gradient, 1e-4, 1e-6));
+  // It differs from the plain mean-loss gradient when tasks conflict.
+  if (expected.projections > 0) {
+    EXPECT_FALSE(torch::allclose(expected.gradient, torch::stack(rows).mean(0), 1e-4, 1e-6));
+  }
+}
+
+TEST(SacMultiTaskTest, PcGradWithOneTaskEqualsThePlainUpdate) {
+  SacLearner plain(Tiny("multihead"), 4, 2, 3);
+  SacLearner pc(Tiny("multihead", /*pcgrad=*/true), 4, 2, 3);
+  Batch batch = RandomBatch(16, 4, 2, 3, 8);
+  batch.task_index.fill_(1);
+  plain.Update(batch);
+  Metrics m = pc.Update(batch);
+  EXPECT_EQ(m.Get("pcgrad_conflicts"), 0.0);
+  EXPECT_TRUE(torch::allclose(plain.critic()->online()->flat(), pc.critic()->online()->flat(),
+                              1e-5, 1e-7));
+  EXPECT_TRUE(torch::allclose(plain.actor()->trunk()->flat(), pc.actor()->trunk()->flat(), 1e-5,
+                              1e-7));
+}
+
+TEST(SacMultiTaskTest, SaveLoadResumesBitIdenticallyForEveryVariant) {
+  for (const std::string& arch : kArchitectures) {
+    for (bool pcgrad : {false, true}) {
+      SacConfig c = Tiny(arch, pcgrad);
+      c.disentangled_alpha = true;
+      SacLearner a(c, 4, 2, 3);
+      for (int i = 0; i < 3; ++i) a.Update(RandomBatch(12, 4, 2, 3, i));
+      const std::string bytes = Archive(a);
+      c.seed = 99;  // different initialisation and generator, overwritten by the load
+      SacLearner b(c, 4, 2, 3);
+      Restore(b, bytes);
+      EXPECT_EQ(b.num_updates(), 3);
+      for (int i = 0; i < 2; ++i) {
+        const Batch batch = RandomBatch(12, 4, 2, 3, 40 + i);
+        Metrics ma = a.Update(batch), mb = b.Update(batch);
+        for (const auto& [name, value] : ma.items()) {
+          EXPECT_EQ(value, mb.Get(name)) << arch << " pcgrad " << pcgrad << " " << name;
+        }
+      }
+      const torch::Tensor obs = torch::randn({3, 4});
+      const torch::Tensor task = torch::arange(3, torch::kInt64);
+      EXPECT_TRUE(torch::equal(a.Act(obs, task, false), b.Act(obs, task, false))) << arch;
+      // Every saved piece matches exactly.
+      EXPECT_EQ(Archive(a), Archive(b)) << arch << " pcgrad " << pcgrad;
+    }
+  }
+}
+
+TEST(SacMultiTaskTest, LoadRejectsAnotherArchitectureOrTaskCount) {
+  SacLearner moe(Tiny("moe"), 4, 2, 3);
+  const std::string bytes = Archive(moe);
+  SacLearner enc(Tiny("task_encoder"), 4, 2, 3);
+  try {
+    Restore(enc, bytes);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'moe'"), std::string::npos) << e.what();
+  }
+  SacLearner four(Tiny("moe"), 4, 2, 4);
+  EXPECT_THROW(Restore(four, bytes), Error);
+}
+
+// A one-step contextual bandit: the observation is constant, the reward is
+// -(a - target[task])^2. The best action depends on the task alone, so a
+// learner must use the task index; without it the best single action is the
+// mean target (expected reward -(a - mean)^2 - var).
+constexpr float kTargets[3] = {-0.5f, 0.2f, 0.7f};
+
+// Trains `sac` on uniform behaviour actions; with `hide_task` the learner
+// sees task 0 for every sample (but rewards still follow the true task).
+void TrainBandit(SacLearner& sac, bool hide_task) {
+  at::Generator gen = at::detail::createCPUGenerator(123);
+  const torch::Tensor targets = torch::tensor({kTargets[0], kTargets[1], kTargets[2]});
+  const int64_t b = 48;
+  for (int step = 0; step < 800; ++step) {
+    Batch batch;
+    const torch::Tensor task = torch::randint(3, {b}, gen, torch::kInt64);
+    batch.task_index = hide_task ? torch::zeros({b}, torch::kInt64) : task;
+    batch.obs = torch::ones({b, 1});
+    batch.next_obs = batch.obs;
+    batch.action = torch::rand({b, 1}, gen, torch::kFloat32) * 2 - 1;
+    batch.reward = -(batch.action.squeeze(1) - targets.index_select(0, task)).square();
+    batch.done = torch::ones({b});
+    sac.Update(batch);
+  }
+}
+
+SacConfig BanditConfig(const std::string& architecture, bool pcgrad = false) {
+  SacConfig c;
+  c.hidden_dim = 32;
+  c.num_layers = 2;
+  c.actor_lr = c.critic_lr = c.alpha_lr = 1e-3;
+  c.init_temperature = 0.1;
+  c.disentangled_alpha = true;
+  c.architecture = architecture;
+  c.pcgrad = pcgrad;
+  c.task_embedding_dim = 8;
+  c.encoder_dim = 8;
+  c.seed = 4;
+  return c;
+}
+
+void ExpectSolvesBandit(const std::string& arch, bool pcgrad) {
+  SacLearner sac(BanditConfig(arch, pcgrad), /*obs_dim=*/1, /*action_dim=*/1, /*num_tasks=*/3);
+  TrainBandit(sac, /*hide_task=*/false);
+  const torch::Tensor act =
+      sac.Act(torch::ones({3, 1}), torch::arange(3, torch::kInt64), /*deterministic=*/true);
+  for (int t = 0; t < 3; ++t) {
+    EXPECT_NEAR(act[t][0].item<float>(), kTargets[t], 0.08f) << arch << " task " << t;
+  }
+}
+
+TEST(SacBanditTest, MlpSolvesTheThreeTaskBandit) { ExpectSolvesBandit("mlp", false); }
+TEST(SacBanditTest, MultiHeadSolvesTheThreeTaskBandit) { ExpectSolvesBandit("multihead", false); }
+TEST(SacBanditTest, TaskEncoderSolvesTheThreeTaskBandit) {
+  ExpectSolvesBandit("task_encoder", false);
+}
+TEST(SacBanditTest, MoeSolvesTheThreeTaskBandit) { ExpectSolvesBandit("moe", false); }
+TEST(SacBanditTest, PcGradSolvesTheThreeTaskBandit) { ExpectSolvesBandit("mlp", true); }
+
+TEST(SacBanditTest, WithoutTheTaskIdTheBestIsTheMeanTarget) {
+  SacLearner sac(BanditConfig("mlp"), 1, 1, 3);
+  TrainBandit(sac, /*hide_task=*/true);
+  const float mean = (kTargets[0] + kTargets[1] + kTargets[2]) / 3;
+  // The same action whatever the task index the learner is given ...
+  const torch::Tensor act = sac.Act(torch::ones({1, 1}), torch::zeros({1}, torch::kInt64), true);
+  const float a = act.item<float>();
+  EXPECT_NEAR(a, mean, 0.08f);
+  // ... so it misses the outer tasks by about |target - mean|.
+  EXPECT_GT(std::abs(a - kTargets[0]), 0.5f);
+  EXPECT_GT(std::abs(a - kTargets[2]), 0.4f);
+}
+
+}  // namespace
+}  // namespace manyworlds::agents
