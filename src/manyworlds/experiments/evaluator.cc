@@ -1,0 +1,146 @@
+#include "manyworlds/experiments/evaluator.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/rng.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+constexpr int64_t kMaxEvalEnvs = 64;
+
+nlohmann::json OptionalJson(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+}  // namespace
+
+nlohmann::json EvalResult::ToJson() const {
+  nlohmann::json tasks = nlohmann::json::object();
+  for (const auto& t : per_task) {
+    tasks[t.task] = {{"success", OptionalJson(t.success)},
+                     {"return", t.mean_return},
+                     {"length", t.mean_length}};
+  }
+  return {{"step", step},
+          {"episodes_per_task", episodes_per_task},
+          {"mean_success", OptionalJson(mean_success)},
+          {"mean_return", mean_return},
+          {"per_task", tasks},
+          {"wall_s", wall_s}};
+}
+
+void ScaleActions(const float* unit, int64_t rows, const EnvFacts& facts, float* out) {
+  const int64_t a = facts.action_dim;
+  for (int64_t r = 0; r < rows; ++r) {
+    for (int64_t j = 0; j < a; ++j) {
+      const float lo = facts.action_low[j];
+      const float hi = facts.action_high[j];
+      const float u = std::clamp(unit[r * a + j], -1.0f, 1.0f);
+      out[r * a + j] = lo + 0.5f * (u + 1.0f) * (hi - lo);
+    }
+  }
+}
+
+Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
+                     uint64_t seed, int num_threads)
+    : tasks_(tasks), episodes_(episodes_per_task), seed_(seed) {
+  if (episodes_per_task < 1) {
+    throw ConfigError("evaluation episodes must be >= 1, got " +
+                      std::to_string(episodes_per_task));
+  }
+  facts_ = InspectEnvs(tasks, registry);
+  // waves of equal size: cap envs per task, then spread episodes evenly
+  const int64_t cap = std::max<int64_t>(1, kMaxEvalEnvs / tasks.size());
+  const int64_t waves = (episodes_ + cap - 1) / cap;
+  slots_ = (episodes_ + waves - 1) / waves;
+  std::vector<std::unique_ptr<Env>> envs;
+  for (int64_t t = 0; t < tasks.size(); ++t) {
+    for (int64_t j = 0; j < slots_; ++j) envs.push_back(tasks.MakeEnv(t, registry));
+  }
+  exec_ = std::make_unique<BatchedExecutor>(
+      std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
+}
+
+Evaluator::~Evaluator() = default;
+
+EvalResult Evaluator::Run(const PolicyFn& policy) {
+  const auto start = std::chrono::steady_clock::now();
+  const int64_t num_tasks = tasks_.size();
+  const int64_t n = num_tasks * slots_;
+  const int64_t obs_dim = facts_.obs_dim;
+  const int64_t info_size = static_cast<int64_t>(exec_->info_fields().size());
+  std::vector<double> returns(num_tasks, 0.0), lengths(num_tasks, 0.0), successes(num_tasks, 0.0);
+  std::vector<float> actions(n * facts_.action_dim);
+  torch::Tensor task_index = torch::empty({n}, torch::kInt64);
+  for (int64_t i = 0; i < n; ++i) task_index[i] = i / slots_;
+
+  std::vector<double> ep_return(n), ep_length(n);
+  std::vector<char> ep_success(n), active(n);
+  for (int64_t first = 0; first < episodes_; first += slots_) {
+    for (int64_t i = 0; i < n; ++i) {
+      const int64_t t = i / slots_;
+      const int64_t e = first + i % slots_;
+      Env& env = exec_->env(static_cast<int>(i));
+      env.Seed(MixSeed(MixSeed(seed_, t), e));
+      env.SeedTask(MixSeed(MixSeed(seed_ + 1, t), e));
+      const auto& variations = tasks_.tasks[t].variations;
+      exec_->SetTaskState(static_cast<int>(i), variations[e % variations.size()]);
+      ep_return[i] = 0.0;
+      ep_length[i] = 0.0;
+      ep_success[i] = 0;
+      active[i] = e < episodes_;
+    }
+    int64_t remaining = std::count(active.begin(), active.end(), 1);
+    while (remaining > 0) {
+      const torch::Tensor obs =
+          torch::from_blob(const_cast<float*>(exec_->env_obs().data()), {n, obs_dim},
+                           torch::kFloat32);
+      const torch::Tensor unit = policy(obs, task_index).contiguous();
+      ScaleActions(unit.data_ptr<float>(), n, facts_, actions.data());
+      exec_->Step(actions);
+      const auto rewards = exec_->rewards();
+      const auto terminated = exec_->terminated();
+      const auto truncated = exec_->truncated();
+      const auto info = exec_->info();
+      for (int64_t i = 0; i < n; ++i) {
+        if (!active[i]) continue;
+        ep_return[i] += rewards[i];
+        ep_length[i] += 1;
+        if (facts_.success_index >= 0 && info[i * info_size + facts_.success_index] > 0.5f) {
+          ep_success[i] = 1;
+        }
+        if (terminated[i] || truncated[i]) {
+          const int64_t t = i / slots_;
+          returns[t] += ep_return[i];
+          lengths[t] += ep_length[i];
+          successes[t] += ep_success[i];
+          active[i] = 0;
+          --remaining;
+        }
+      }
+    }
+  }
+
+  EvalResult result;
+  result.episodes_per_task = episodes_;
+  double sum_success = 0.0, sum_return = 0.0;
+  for (int64_t t = 0; t < num_tasks; ++t) {
+    TaskEvalResult r;
+    r.task = tasks_.tasks[t].name;
+    r.mean_return = returns[t] / static_cast<double>(episodes_);
+    r.mean_length = lengths[t] / static_cast<double>(episodes_);
+    if (facts_.success_index >= 0) r.success = successes[t] / static_cast<double>(episodes_);
+    sum_success += r.success.value_or(0.0);
+    sum_return += r.mean_return;
+    result.per_task.push_back(std::move(r));
+  }
+  if (facts_.success_index >= 0) result.mean_success = sum_success / num_tasks;
+  result.mean_return = sum_return / num_tasks;
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace manyworlds::experiments

@@ -1,0 +1,86 @@
+// Evaluation by the published multi-task protocol (metaworld.md §4; MTRL's
+// evaluate_vec_env_of_tasks):
+//  - deterministic (mean) actions;
+//  - an episode is a success if the env's `success` info field was 1 at any
+//    step (not only at the end);
+//  - per task: success rate and mean return over its episodes; overall: the
+//    mean over tasks of both.
+// Envs without a `success` field report success as absent (null) but still
+// report returns.
+//
+// Episode e of task t runs with env seed MixSeed(MixSeed(seed, t), e) on the
+// task's variation e mod (number of variations), so an evaluation depends only on the policy: the same
+// checkpoint gives the same numbers during training and in `manyworlds eval`.
+#ifndef MANYWORLDS_EXPERIMENTS_EVALUATOR_H_
+#define MANYWORLDS_EXPERIMENTS_EVALUATOR_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <torch/torch.h>
+
+#include "manyworlds/core/executor.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/experiments/task_set.h"
+
+namespace manyworlds::experiments {
+
+struct TaskEvalResult {
+  std::string task;
+  std::optional<double> success;  // success rate in [0, 1]; absent without `success`
+  double mean_return = 0.0;
+  double mean_length = 0.0;
+};
+
+struct EvalResult {
+  int64_t step = 0;  // env steps per task when it ran
+  int64_t episodes_per_task = 0;
+  std::vector<TaskEvalResult> per_task;
+  std::optional<double> mean_success;
+  double mean_return = 0.0;
+  double wall_s = 0.0;
+
+  // {"step", "episodes_per_task", "mean_success", "mean_return",
+  //  "per_task": {name: {"success", "return", "length"}}, "wall_s"}
+  nlohmann::json ToJson() const;
+};
+
+// obs (N, obs_dim) float32 and task indices (N) int64 -> actions (N,
+// action_dim) in (-1, 1).
+using PolicyFn = std::function<torch::Tensor(const torch::Tensor& obs, const torch::Tensor& task)>;
+
+// Seed stream of evaluation episodes (mixed with the run seed).
+inline constexpr uint64_t kEvalSeedStream = 0x6576616c;  // "eval"
+
+class Evaluator {
+ public:
+  // Builds the evaluation envs (a wave of up to 64 envs in all, split evenly
+  // between tasks). Throws ConfigError as InspectEnvs does.
+  Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
+            uint64_t seed, int num_threads);
+  ~Evaluator();
+
+  EvalResult Run(const PolicyFn& policy);
+
+  int64_t episodes_per_task() const { return episodes_; }
+
+ private:
+  const TaskSet& tasks_;
+  EnvFacts facts_;
+  int64_t episodes_;
+  uint64_t seed_;
+  int64_t slots_;  // envs per task in one wave
+  std::unique_ptr<BatchedExecutor> exec_;
+};
+
+// Maps policy actions in (-1, 1) to the env's Box bounds.
+void ScaleActions(const float* unit, int64_t rows, const EnvFacts& facts, float* out);
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_EVALUATOR_H_

@@ -1,0 +1,187 @@
+#include "manyworlds/experiments/task_set.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/rng.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+// Applies a task state on a scratch env, turning the env's complaint into a
+// ConfigError that names the config entry.
+void CheckState(Env& env, const TaskState& state, const std::string& where) {
+  try {
+    env.SetTaskState(state);
+  } catch (const Error& e) {
+    throw ConfigError(where + ": " + e.what());
+  }
+}
+
+TaskState StateFromConfig(const nlohmann::json& json, const std::string& where) {
+  try {
+    return TaskState::FromJson(json);
+  } catch (const Error& e) {
+    throw ConfigError(where + ": " + e.what());
+  }
+}
+
+// Makes names unique: the second "reach" becomes "reach#1".
+void Deduplicate(std::vector<TaskSpec>& tasks) {
+  std::map<std::string, int> count;
+  for (const auto& t : tasks) ++count[t.name];
+  std::map<std::string, int> seen;
+  for (auto& t : tasks) {
+    if (count[t.name] > 1) {
+      const int k = seen[t.name]++;
+      if (k > 0) {
+        t.name += '#';
+        t.name += std::to_string(k);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<Env> TaskSet::MakeEnv(int64_t task, const Registry& registry) const {
+  return registry.Make(tasks.at(task).env_id, options);
+}
+
+nlohmann::json TaskSet::ToJson() const {
+  nlohmann::json list = nlohmann::json::array();
+  for (const auto& t : tasks) {
+    nlohmann::json states = nlohmann::json::array();
+    for (const auto& v : t.variations) states.push_back(v.ToJson());
+    list.push_back({{"name", t.name}, {"env_id", t.env_id}, {"variations", states}});
+  }
+  return {{"options", options}, {"tasks", list}};
+}
+
+TaskSet TaskSet::FromJson(const nlohmann::json& json) {
+  try {
+    TaskSet set;
+    set.options = json.at("options");
+    for (const auto& t : json.at("tasks")) {
+      TaskSpec spec{t.at("name").get<std::string>(), t.at("env_id").get<std::string>(), {}};
+      for (const auto& v : t.at("variations")) spec.variations.push_back(TaskState::FromJson(v));
+      if (spec.variations.empty()) throw Error("task '" + spec.name + "' has no variations");
+      set.tasks.push_back(std::move(spec));
+    }
+    if (set.tasks.empty()) throw Error("no tasks");
+    return set;
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("malformed task list: ") + e.what());
+  }
+}
+
+TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry) {
+  TaskSet set;
+  set.options = env.options;
+  const auto& states = env.task_states;
+  if (!env.tasks.empty()) {
+    if (!states.empty() && states.size() != env.tasks.size()) {
+      throw ConfigError("'env.task_states' has " + std::to_string(states.size()) +
+                        " entries for " + std::to_string(env.tasks.size()) + " tasks");
+    }
+    for (size_t i = 0; i < env.tasks.size(); ++i) {
+      auto made = registry.Make(env.tasks[i], env.options);
+      TaskState state;
+      if (states.empty()) {
+        made->SeedTask(MixSeed(env.task_seed, i));
+        state = made->SampleTaskState();
+      } else {
+        state = StateFromConfig(states[i], "env.task_states." + std::to_string(i));
+      }
+      CheckState(*made, state, "env.task_states." + std::to_string(i));
+      set.tasks.push_back({env.tasks[i], env.tasks[i], {std::move(state)}});
+    }
+    Deduplicate(set.tasks);
+    return set;
+  }
+
+  auto proto = registry.Make(env.id, env.options);
+  if (!states.empty()) {
+    if (env.num_tasks != 0 && env.num_tasks != static_cast<int64_t>(states.size())) {
+      throw ConfigError("'env.num_tasks' is " + std::to_string(env.num_tasks) +
+                        " but 'env.task_states' has " + std::to_string(states.size()) +
+                        " entries");
+    }
+    for (size_t i = 0; i < states.size(); ++i) {
+      const std::string where = "env.task_states." + std::to_string(i);
+      TaskState state = StateFromConfig(states[i], where);
+      CheckState(*proto, state, where);
+      set.tasks.push_back({env.id + "/" + std::to_string(i), env.id, {std::move(state)}});
+    }
+    if (states.size() == 1) set.tasks[0].name = env.id;
+    return set;
+  }
+
+  proto->SeedTask(env.task_seed);
+  if (env.num_tasks == 0) {
+    // the env's own task list (a benchmark: one group per task with its
+    // variations), else a single sampled task
+    std::vector<TaskGroup> groups = proto->EvaluationTasks();
+    if (groups.empty()) {
+      set.tasks.push_back({env.id, env.id, {proto->SampleTaskState()}});
+      return set;
+    }
+    for (auto& group : groups) {
+      if (group.states.empty()) continue;
+      if (env.variations_per_task > 0 &&
+          static_cast<int64_t>(group.states.size()) > env.variations_per_task) {
+        group.states.resize(env.variations_per_task);
+      }
+      set.tasks.push_back({group.name, env.id, std::move(group.states)});
+    }
+    if (set.tasks.empty()) throw ConfigError("env '" + env.id + "' lists no tasks");
+    Deduplicate(set.tasks);
+    return set;
+  }
+  for (int64_t i = 0; i < env.num_tasks; ++i) {
+    set.tasks.push_back({env.num_tasks == 1 ? env.id : env.id + "/" + std::to_string(i), env.id,
+                         {proto->SampleTaskState()}});
+  }
+  return set;
+}
+
+EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
+  EnvFacts facts;
+  std::vector<std::string> info_fields;
+  for (int64_t t = 0; t < tasks.size(); ++t) {
+    auto env = tasks.MakeEnv(t, registry);
+    const EnvSpec& spec = env->spec();
+    const Space& action = spec.action_space;
+    const std::string who = "env '" + spec.id + "' (task " + tasks.tasks[t].name + ")";
+    if (!action.is_box()) {
+      throw ConfigError(who + ": SAC needs a Box action space, got " + action.ToString());
+    }
+    for (size_t i = 0; i < action.low().size(); ++i) {
+      if (!std::isfinite(action.low()[i]) || !std::isfinite(action.high()[i])) {
+        throw ConfigError(who + ": SAC needs a bounded action space, got " + action.ToString());
+      }
+    }
+    if (spec.max_episode_steps <= 0) {
+      throw ConfigError(who + " has no episode limit; set env.options.max_episode_steps");
+    }
+    if (t == 0) {
+      facts.obs_dim = spec.env_obs_space.flat_size();
+      facts.action_dim = action.flat_size();
+      facts.action_low = action.low();
+      facts.action_high = action.high();
+      facts.success_index = spec.InfoIndex("success");
+      info_fields = spec.info_fields;
+    } else if (spec.env_obs_space.flat_size() != facts.obs_dim ||
+               action.flat_size() != facts.action_dim || action.low() != facts.action_low ||
+               action.high() != facts.action_high || spec.info_fields != info_fields) {
+      throw ConfigError(who + " differs from task " + tasks.tasks[0].name +
+                        " in observation size, action space or info fields");
+    }
+    facts.episode_length = std::max(facts.episode_length, spec.max_episode_steps);
+  }
+  return facts;
+}
+
+}  // namespace manyworlds::experiments

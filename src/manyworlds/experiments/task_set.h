@@ -1,0 +1,67 @@
+// The tasks of a run: which env each task runs on and its fixed task state.
+//
+// Resolved once from the env section of the config and stored in the run
+// directory (tasks.json), so that evaluation and resumed runs use exactly the
+// training tasks even if a task sampler changes later. As in MTRL on
+// Meta-World, the task states are fixed for the whole run. A task may have
+// several variations (a benchmark task's object and goal positions): each
+// training episode runs on one drawn uniformly, and evaluation episode e of a
+// task runs on variation e mod (number of variations), so evaluating with as
+// many episodes as variations covers each once (Meta-World+'s MT protocol).
+#ifndef MANYWORLDS_EXPERIMENTS_TASK_SET_H_
+#define MANYWORLDS_EXPERIMENTS_TASK_SET_H_
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/core/env.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/core/task_state.h"
+#include "manyworlds/experiments/train_config.h"
+
+namespace manyworlds::experiments {
+
+struct TaskSpec {
+  std::string name;    // unique, for tables and metric keys ("point-nav/1", "reach")
+  std::string env_id;  // registry id
+  std::vector<TaskState> variations;  // >= 1; one is applied before every episode
+};
+
+struct TaskSet {
+  std::vector<TaskSpec> tasks;
+  nlohmann::json options = nlohmann::json::object();  // registry options of every env
+
+  int64_t size() const { return static_cast<int64_t>(tasks.size()); }
+  // Makes a fresh env of task i (its task state not yet applied).
+  std::unique_ptr<Env> MakeEnv(int64_t task, const Registry& registry) const;
+
+  nlohmann::json ToJson() const;
+  // Throws Error on malformed JSON.
+  static TaskSet FromJson(const nlohmann::json& json);
+};
+
+// Resolves the env section (see train_config.h): makes the envs, draws or
+// validates the task states. Throws ConfigError for unknown ids or options,
+// or task states an env rejects.
+TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry);
+
+// Facts shared by every env of a task set, checked to agree between tasks.
+struct EnvFacts {
+  int64_t obs_dim = 0;         // env observation size (the learner's input)
+  int64_t action_dim = 0;
+  std::vector<float> action_low, action_high;  // finite Box bounds
+  int64_t episode_length = 0;  // the largest max_episode_steps (> 0)
+  int success_index = -1;      // index of the "success" info field, or -1
+};
+
+// Throws ConfigError if an env has a non-Box or unbounded action space, no
+// episode limit, or sizes that differ between tasks.
+EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry);
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_TASK_SET_H_

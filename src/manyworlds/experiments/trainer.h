@@ -1,0 +1,146 @@
+// Multi-task SAC training (MTRL's loop, mtenv-mtrl.md B6) with evaluation,
+// logs and exact checkpoints.
+//
+//   Trainer trainer = Trainer::Create(config);      // new run directory
+//   Trainer trainer = Trainer::Resume("runs/x");    // continue the latest checkpoint
+//   TrainSummary s = trainer.Run(callbacks);
+//
+// The loop. Every task has envs_per_task envs, all stepped together by one
+// batched executor. Training runs in rounds of one episode length: at the
+// start of round r every env is re-seeded from (seed, r, env) and reset on a
+// variation of its task drawn from the same stream. Each loop step:
+//  1. actions: uniform random in the action box during the first
+//     warmup_steps steps, then sampled from the learner (one batched forward
+//     pass over all envs, InferenceMode), scaled from (-1, 1) to the box;
+//  2. step the executor; store one transition per env with done =
+//     terminated (a time-limit cut bootstraps) and next_obs = the episode's
+//     last observation where it ended;
+//  3. after warm-up, gradient updates so that updates = floor((step -
+//     warmup_steps) * updates_per_step), each on a replay batch.
+// After a round: one metrics row; an evaluation and a checkpoint when due.
+//
+// Exact resume. A checkpoint is taken at a round boundary, where every env
+// is about to be re-seeded and reset, so the env state to save is nothing
+// but the round number: the checkpoint holds the learner (networks, target
+// networks, temperatures, optimizers, its generator), the replay buffer and
+// its sampling generator, the warm-up action generator, torch's default
+// generator and the step counters. A resumed run therefore continues with
+// the same numbers as one never stopped; metrics rows written after the
+// checkpoint by the stopped process are dropped and written again.
+//
+// Run directory:
+//   config.yaml              resolved configuration
+//   tasks.json               the tasks and their task states
+//   metrics.jsonl / .csv     one row per round (losses, alpha, rates, returns)
+//   eval.jsonl / .csv        one row per evaluation (per-task and mean success, return)
+//   checkpoints/step_<N>/    learner.pt, replay.bin, state.json (written into a
+//                            temporary directory, then renamed)
+//   checkpoints/latest       name of the newest complete checkpoint
+//   summary.json             final evaluation, wall time, rates (when finished)
+//
+// The trainer prints nothing; the caller gets progress through callbacks.
+#ifndef MANYWORLDS_EXPERIMENTS_TRAINER_H_
+#define MANYWORLDS_EXPERIMENTS_TRAINER_H_
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/train_config.h"
+
+namespace manyworlds::experiments {
+
+struct TrainProgress {
+  int64_t step = 0;         // env steps per training env so far
+  int64_t total_steps = 0;  // the step the run ends at
+  int64_t updates = 0;
+  double elapsed_s = 0.0;        // wall time of the run, over all sessions
+  double env_steps_per_s = 0.0;  // all envs, this session
+  double updates_per_s = 0.0;    // this session
+  std::optional<EvalResult> last_eval;
+};
+
+struct TrainCallbacks {
+  std::function<void(const TrainProgress&)> on_round;    // after every round
+  std::function<void(const EvalResult&)> on_eval;        // after every evaluation
+  std::function<void(const std::filesystem::path&)> on_checkpoint;
+  // Stop (as if killed) after the first checkpoint at or past this step;
+  // the run can be continued with Resume.
+  std::optional<int64_t> stop_after_step;
+};
+
+struct TrainSummary {
+  bool finished = false;  // false if stopped by stop_after_step
+  int64_t step = 0;
+  int64_t updates = 0;
+  double wall_s = 0.0;
+  double env_steps_per_s = 0.0;
+  double updates_per_s = 0.0;
+  std::optional<EvalResult> final_eval;
+  nlohmann::json ToJson() const;
+};
+
+// Names inside a run directory.
+struct RunPaths {
+  std::filesystem::path dir;
+  std::filesystem::path config() const { return dir / "config.yaml"; }
+  std::filesystem::path tasks() const { return dir / "tasks.json"; }
+  std::filesystem::path checkpoints() const { return dir / "checkpoints"; }
+  std::filesystem::path summary() const { return dir / "summary.json"; }
+};
+
+// The newest complete checkpoint of a run ("checkpoints/latest", else the
+// highest step_* directory). Throws ConfigError if the run has none.
+std::filesystem::path LatestCheckpoint(const std::filesystem::path& run_dir);
+
+// A resolved run read back from its directory: config and tasks. Throws
+// ConfigError if the directory is not a run.
+struct RunInfo {
+  TrainConfig config;
+  TaskSet tasks;
+  static RunInfo Read(const std::filesystem::path& run_dir);
+};
+
+// Evaluates the learner saved in a checkpoint directory (learner.pt) on the
+// run's tasks with `episodes` per task. Throws Error on a corrupt checkpoint.
+EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
+                              int64_t episodes);
+
+class Trainer {
+ public:
+  // A new run: validates the config, resolves the tasks, creates run_dir and
+  // writes config.yaml and tasks.json. Throws ConfigError on a bad config or
+  // if run_dir already holds a run (resume it or choose another).
+  static Trainer Create(const TrainConfig& config);
+  // Continues a run from its latest checkpoint, or starts it if it stopped
+  // before the first one. Throws ConfigError if run_dir is not a run, Error
+  // if the checkpoint is corrupt.
+  static Trainer Resume(const std::filesystem::path& run_dir);
+
+  Trainer(Trainer&&) noexcept;
+  Trainer& operator=(Trainer&&) noexcept;
+  ~Trainer();
+
+  // Trains to experiment.steps_per_task (or stop_after_step), evaluating and
+  // checkpointing when due; writes summary.json when finished.
+  TrainSummary Run(const TrainCallbacks& callbacks = {});
+
+  const TrainConfig& config() const;
+  const TaskSet& tasks() const;
+  int64_t step() const;
+  const std::filesystem::path& run_dir() const;
+
+ private:
+  struct Impl;
+  explicit Trainer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_TRAINER_H_

@@ -1,0 +1,209 @@
+// Runs the built `manyworlds` program (MANYWORLDS_CLI_PATH): train with a
+// tiny config writes every run-directory file, eval reads it back, resume
+// continues, and bad input gives one error line and the documented exit code.
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace manyworlds {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path ScratchDir() {
+  const auto* info = testing::UnitTest::GetInstance()->current_test_info();
+  fs::path dir = fs::temp_directory_path() /
+                 ("mw_cli_train_test_" + std::to_string(getpid()) + "_" + info->name());
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+RunResult RunCli(const std::string& args, const fs::path& cwd) {
+  const fs::path err_file = cwd / "stderr.txt";
+  const std::string command = "cd '" + cwd.string() + "' && '" + MANYWORLDS_CLI_PATH + "' " +
+                              args + " 2>'" + err_file.string() + "'";
+  RunResult result;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return result;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.out.append(buffer, n);
+  const int status = pclose(pipe);
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.err = Slurp(err_file);
+  fs::remove(err_file);
+  return result;
+}
+
+bool IsOneErrorLine(const std::string& err) {
+  return err.rfind("error: ", 0) == 0 && err.find('\n') == err.size() - 1;
+}
+
+constexpr char kTinyConfig[] = R"(env:
+  id: point-nav
+  options: {horizon: 50}
+agent:
+  hidden_dim: 16
+  num_layers: 2
+  batch_size: 32
+replay:
+  capacity: 5000
+experiment:
+  steps_per_task: 300
+  warmup_steps: 100
+  eval_every: 100
+  eval_episodes: 2
+  checkpoint_every: 150
+  keep_checkpoints: 0
+  run_dir: runs/tiny
+)";
+
+TEST(CliTrainTest, TrainWritesTheRunDirectoryAndEvalReadsIt) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  const RunResult train = RunCli("train tiny.yaml experiment.seed=3", dir);
+  ASSERT_EQ(train.exit_code, 0) << train.err;
+  EXPECT_NE(train.out.find("point-nav"), std::string::npos) << train.out;
+  EXPECT_NE(train.out.find("success"), std::string::npos) << train.out;
+  const fs::path run = dir / "runs/tiny";
+  for (const char* file : {"config.yaml", "tasks.json", "metrics.jsonl", "metrics.csv",
+                           "eval.jsonl", "eval.csv", "summary.json", "checkpoints/latest",
+                           "checkpoints/step_000000000150/learner.pt",
+                           "checkpoints/step_000000000300/learner.pt",
+                           "checkpoints/step_000000000300/replay.bin",
+                           "checkpoints/step_000000000300/state.json"}) {
+    EXPECT_TRUE(fs::exists(run / file)) << file;
+  }
+  EXPECT_NE(Slurp(run / "config.yaml").find("seed: 3"), std::string::npos);
+  EXPECT_EQ(Slurp(run / "checkpoints/latest"), "step_000000000300\n");
+  const auto summary = nlohmann::json::parse(Slurp(run / "summary.json"));
+  EXPECT_TRUE(summary["finished"].get<bool>());
+  EXPECT_EQ(summary["step"], 300);
+  EXPECT_GT(summary["env_steps_per_s"].get<double>(), 0);
+  EXPECT_TRUE(summary["final_eval"]["mean_success"].is_number());
+  // metrics: one row per 50-step round; CSV header names the columns
+  const std::string csv = Slurp(run / "metrics.csv");
+  EXPECT_EQ(csv.rfind("step,", 0), 0u) << csv.substr(0, 200);
+  EXPECT_NE(csv.find("critic_loss"), std::string::npos);
+  EXPECT_NE(csv.find("env_steps_per_s"), std::string::npos);
+  EXPECT_NE(Slurp(run / "eval.csv").find("per_task.point-nav.success"), std::string::npos);
+
+  const RunResult eval = RunCli("eval runs/tiny --json", dir);
+  ASSERT_EQ(eval.exit_code, 0) << eval.err;
+  const auto json = nlohmann::json::parse(eval.out);
+  ASSERT_TRUE(json.contains("per_task"));
+  ASSERT_TRUE(json["per_task"].contains("point-nav"));
+  // same checkpoint, same episodes: the number logged at the end of training
+  EXPECT_EQ(json["mean_return"], summary["final_eval"]["mean_return"]);
+  EXPECT_EQ(json["mean_success"], summary["final_eval"]["mean_success"]);
+
+  const RunResult table = RunCli("eval runs/tiny --checkpoint step_000000000150 --episodes 1", dir);
+  ASSERT_EQ(table.exit_code, 0) << table.err;
+  EXPECT_NE(table.out.find("step 150"), std::string::npos) << table.out;
+  EXPECT_NE(table.out.find("point-nav"), std::string::npos);
+
+  // resuming a finished run is a no-op
+  const RunResult again = RunCli("train --resume runs/tiny", dir);
+  EXPECT_EQ(again.exit_code, 0) << again.err;
+  fs::remove_all(dir);
+}
+
+TEST(CliTrainTest, StopAndResumeGiveTheUninterruptedNumbers) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  ASSERT_EQ(RunCli("train tiny.yaml experiment.run_dir=full", dir).exit_code, 0);
+  const RunResult stop = RunCli("train tiny.yaml experiment.run_dir=part --stop-after 150", dir);
+  ASSERT_EQ(stop.exit_code, 0) << stop.err;
+  EXPECT_NE(stop.err.find("--resume"), std::string::npos) << stop.err;
+  EXPECT_FALSE(fs::exists(dir / "part/summary.json"));
+  const RunResult resume = RunCli("train --resume part", dir);
+  ASSERT_EQ(resume.exit_code, 0) << resume.err;
+  auto evals = [&](const std::string& run) {
+    std::ifstream in(dir / run / "eval.jsonl");
+    std::string line, all;
+    while (std::getline(in, line)) {
+      auto row = nlohmann::json::parse(line);
+      row.erase("wall_s");
+      all += row.dump() + "\n";
+    }
+    return all;
+  };
+  EXPECT_EQ(evals("part"), evals("full"));
+  const auto full = nlohmann::json::parse(RunCli("eval full --json", dir).out);
+  const auto part = nlohmann::json::parse(RunCli("eval part --json", dir).out);
+  EXPECT_EQ(full["per_task"], part["per_task"]);
+  EXPECT_EQ(full["mean_return"], part["mean_return"]);
+  fs::remove_all(dir);
+}
+
+TEST(CliTrainTest, BadInputGivesOneErrorLine) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  struct Case {
+    std::string args;
+    int code;
+    std::string needle;
+  };
+  const Case cases[] = {
+      {"train", 2, "config file"},
+      {"train missing.yaml", 2, "missing.yaml"},
+      {"train tiny.yaml agent.hiden_dim=3", 2, "hidden_dim"},
+      {"train tiny.yaml experiment.eval_episodes=0", 2, "eval_episodes"},
+      {"train tiny.yaml env.id=point-nva", 2, "point-nav"},
+      {"train --resume nowhere", 2, "nowhere"},
+      {"train tiny.yaml --resume nowhere", 2, "resume"},
+      {"eval nowhere", 2, "nowhere"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = RunCli(c.args, dir);
+    EXPECT_EQ(r.exit_code, c.code) << c.args << "\n" << r.err;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << c.args << "\n" << r.err;
+    EXPECT_NE(r.err.find(c.needle), std::string::npos) << c.args << "\n" << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "runs"));  // nothing was created
+
+  ASSERT_EQ(RunCli("train tiny.yaml experiment.steps_per_task=150", dir).exit_code, 0);
+  const RunResult twice = RunCli("train tiny.yaml", dir);
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("--resume"), std::string::npos) << twice.err;
+  const RunResult no_such = RunCli("eval runs/tiny --checkpoint step_9", dir);
+  EXPECT_EQ(no_such.exit_code, 2);
+  EXPECT_NE(no_such.err.find("step_000000000150"), std::string::npos) << no_such.err;
+  // a corrupt checkpoint: runtime error (1), one line, logs untouched
+  const std::string metrics = Slurp(dir / "runs/tiny/metrics.jsonl");
+  std::ofstream(dir / "runs/tiny/checkpoints/step_000000000150/learner.pt",
+                std::ios::trunc) << "not a checkpoint";
+  for (const char* args : {"eval runs/tiny", "train --resume runs/tiny"}) {
+    const RunResult r = RunCli(args, dir);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("learner.pt"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(Slurp(dir / "runs/tiny/metrics.jsonl"), metrics);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace manyworlds

@@ -1,0 +1,191 @@
+// A run stopped and resumed from a checkpoint gives the same metrics and
+// bit-identical evaluations as one never stopped; bad run directories and
+// corrupt checkpoints fail clearly without touching the logs.
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/trainer.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() /
+                 ("mw_resume_test_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+// Three point-nav goals, two envs per task, half an update per step: small,
+// but every part of the state (replay, learner, generators, variations of
+// the round seeds) matters for the numbers.
+TrainConfig Tiny(const fs::path& run_dir) {
+  TrainConfig c;
+  c.env.id = "point-nav";
+  c.env.num_tasks = 3;
+  c.env.envs_per_task = 2;
+  c.env.options = {{"horizon", 50}};
+  c.agent.hidden_dim = 32;
+  c.agent.num_layers = 2;
+  c.agent.batch_size = 16;
+  c.agent.disentangled_alpha = true;
+  c.replay.capacity = 3000;
+  c.experiment.seed = 11;
+  c.experiment.steps_per_task = 600;
+  c.experiment.warmup_steps = 100;
+  c.experiment.updates_per_step = 0.5;
+  c.experiment.eval_every = 100;
+  c.experiment.eval_episodes = 3;
+  c.experiment.checkpoint_every = 300;
+  c.experiment.keep_checkpoints = 0;
+  c.experiment.run_dir = run_dir.string();
+  return c;
+}
+
+// Rows without wall-clock fields.
+std::vector<nlohmann::json> Rows(const fs::path& file) {
+  std::vector<nlohmann::json> rows = ReadJsonLines(file);
+  for (auto& row : rows) {
+    for (const char* key : {"wall_s", "env_steps_per_s", "updates_per_s", "time_act_s",
+                            "time_env_s", "time_update_s"}) {
+      row.erase(key);
+    }
+  }
+  return rows;
+}
+
+std::string Slurp(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(ResumeTest, ResumedRunMatchesAnUninterruptedOne) {
+  const fs::path a = Scratch("a"), b = Scratch("b"), c = Scratch("c");
+  {
+    Trainer full = Trainer::Create(Tiny(a));
+    ASSERT_TRUE(full.Run().finished);
+  }
+  // b: runs to the end, then is "killed" as if just after its mid-run
+  // checkpoint: the later checkpoint and the summary are lost, the logs hold
+  // rows past the checkpoint, and a half-written checkpoint lies around
+  {
+    Trainer t = Trainer::Create(Tiny(b));
+    ASSERT_TRUE(t.Run().finished);
+  }
+  fs::remove_all(b / "checkpoints/step_000000000600");
+  fs::remove(b / "summary.json");
+  fs::create_directories(b / "checkpoints/.tmp_step_000000000600");
+  std::ofstream(b / "checkpoints/.tmp_step_000000000600/learner.pt") << "partial";
+  ASSERT_EQ(LatestCheckpoint(b).filename(), "step_000000000300");
+  {
+    Trainer resumed = Trainer::Resume(b);
+    EXPECT_EQ(resumed.step(), 300);
+    // rows after the checkpoint are gone until the run writes them again
+    EXPECT_EQ(Rows(b / "eval.jsonl").size(), 3u);
+    const TrainSummary s = resumed.Run();
+    EXPECT_TRUE(s.finished);
+  }
+  // c: stopped by stop_after_step at its first checkpoint, then resumed
+  {
+    Trainer t = Trainer::Create(Tiny(c));
+    TrainCallbacks callbacks;
+    callbacks.stop_after_step = 1;
+    EXPECT_FALSE(t.Run(callbacks).finished);
+    EXPECT_EQ(t.step(), 300);
+  }
+  {
+    Trainer resumed = Trainer::Resume(c);
+    EXPECT_TRUE(resumed.Run().finished);
+  }
+
+  const auto eval_a = Rows(a / "eval.jsonl");
+  ASSERT_EQ(eval_a.size(), 6u);
+  EXPECT_EQ(Rows(a / "metrics.jsonl").size(), 12u);  // 600 steps / 50 per round
+  for (const fs::path& other : {b, c}) {
+    SCOPED_TRACE(other.string());
+    EXPECT_EQ(Rows(other / "eval.jsonl"), eval_a);  // bit-identical numbers
+    EXPECT_EQ(Rows(other / "metrics.jsonl"), Rows(a / "metrics.jsonl"));
+    // the final networks and replay are identical too
+    EXPECT_EQ(Slurp(other / "checkpoints/step_000000000600/replay.bin"),
+              Slurp(a / "checkpoints/step_000000000600/replay.bin"));
+    EXPECT_TRUE(fs::exists(other / "summary.json"));
+    EXPECT_TRUE(fs::exists(other / "metrics.csv"));
+    EXPECT_TRUE(fs::exists(other / "eval.csv"));
+  }
+  // the evaluation of a checkpoint reproduces the one logged in training
+  const EvalResult again =
+      EvaluateCheckpoint(RunInfo::Read(a), LatestCheckpoint(a), 3);
+  nlohmann::json again_json = again.ToJson();
+  again_json.erase("wall_s");
+  EXPECT_EQ(again_json, eval_a.back());
+  // a finished run resumes to nothing
+  {
+    Trainer done = Trainer::Resume(a);
+    const TrainSummary s = done.Run();
+    EXPECT_TRUE(s.finished);
+    EXPECT_EQ(Rows(a / "eval.jsonl"), eval_a);
+  }
+  for (const auto& d : {a, b, c}) fs::remove_all(d);
+}
+
+TEST(ResumeTest, BadRunsFailClearlyAndLoseNothing) {
+  const fs::path dir = Scratch("bad");
+  EXPECT_THROW(Trainer::Resume(dir), ConfigError);  // missing
+  fs::create_directories(dir);
+  EXPECT_THROW(Trainer::Resume(dir), ConfigError);  // not a run
+  fs::remove_all(dir);
+
+  TrainConfig config = Tiny(dir);
+  config.experiment.steps_per_task = 300;
+  {
+    Trainer t = Trainer::Create(config);
+    t.Run();
+  }
+  // a second Create would overwrite the run
+  EXPECT_THROW(Trainer::Create(config), ConfigError);
+
+  const std::string metrics = Slurp(dir / "metrics.jsonl");
+  const fs::path learner = dir / "checkpoints/step_000000000300/learner.pt";
+  const std::string original = Slurp(learner);
+  std::string bytes = original;
+  bytes.resize(bytes.size() / 2);
+  std::ofstream(learner, std::ios::binary | std::ios::trunc) << bytes;
+  try {
+    Trainer::Resume(dir);
+    ADD_FAILURE() << "a corrupt checkpoint resumed";
+  } catch (const ConfigError& e) {
+    ADD_FAILURE() << "corrupt checkpoint reported as a config error: " << e.what();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("learner.pt"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(EvaluateCheckpoint(RunInfo::Read(dir), LatestCheckpoint(dir), 1), Error);
+  EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);  // nothing lost
+
+  std::ofstream(learner, std::ios::binary | std::ios::trunc) << original;
+  fs::remove(dir / "checkpoints/step_000000000300/replay.bin");
+  std::ofstream(dir / "checkpoints/step_000000000300/replay.bin") << "junk";
+  try {
+    Trainer::Resume(dir);
+    ADD_FAILURE() << "a corrupt replay snapshot resumed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("replay.bin"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace manyworlds::experiments

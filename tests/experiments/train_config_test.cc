@@ -1,0 +1,232 @@
+#include "manyworlds/experiments/train_config.h"
+
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/envs/all.h"
+#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/task_set.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path SourceDir() {
+  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
+  return dir != nullptr ? fs::path(dir) : fs::path(MANYWORLDS_TEST_SOURCE_DIR);
+}
+
+fs::path Scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() /
+                 ("mw_train_config_test_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+fs::path WriteFile(const fs::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TrainConfigTest, DefaultsFollowMtrl) {
+  TrainConfig c;
+  EXPECT_EQ(c.agent.hidden_dim, 400);
+  EXPECT_EQ(c.agent.num_layers, 3);
+  EXPECT_EQ(c.experiment.warmup_steps, 1500);
+  EXPECT_EQ(c.replay.capacity, 1000000);
+  EXPECT_EQ(c.replay.sampling, "balanced");
+  EXPECT_EQ(c.TotalBatchSize(10), 1280);  // 128 per task
+  c.experiment.batch_size = 256;
+  EXPECT_EQ(c.TotalBatchSize(10), 256);
+  // no env given
+  EXPECT_NE(ErrorOf([&] { TrainConfig{}.Validate(); }).find("env.id"), std::string::npos);
+}
+
+TEST(TrainConfigTest, LoadsYamlThenOverridesAndRoundTrips) {
+  const fs::path dir = Scratch("load");
+  const fs::path file = WriteFile(dir / "c.yaml", R"(
+env:
+  id: point-nav
+  options: {horizon: 50}
+agent:
+  hidden_dim: 32
+  target_entropy: -1.5
+  architecture: multihead
+experiment:
+  steps_per_task: 1000
+)");
+  TrainConfig c = TrainConfig::Load(file, {"experiment.seed=7", "agent.num_layers=1",
+                                           "env.options.horizon=20"});
+  EXPECT_EQ(c.env.id, "point-nav");
+  EXPECT_EQ(c.env.options["horizon"], 20);
+  EXPECT_EQ(c.agent.hidden_dim, 32);
+  EXPECT_EQ(c.agent.num_layers, 1);
+  EXPECT_EQ(c.agent.architecture, "multihead");
+  ASSERT_TRUE(c.agent.target_entropy.has_value());
+  EXPECT_DOUBLE_EQ(*c.agent.target_entropy, -1.5);
+  EXPECT_EQ(c.experiment.seed, 7u);
+  EXPECT_EQ(c.experiment.steps_per_task, 1000);
+  EXPECT_EQ(c.experiment.warmup_steps, 1500);  // default kept
+  EXPECT_NO_THROW(c.Validate());
+  // the resolved tree reads back to the same config
+  EXPECT_EQ(TrainConfig::FromJson(c.ToJson()).ToJson(), c.ToJson());
+}
+
+TEST(TrainConfigTest, UnknownKeysAndBadValuesAreConfigErrors) {
+  const fs::path dir = Scratch("bad");
+  const fs::path typo = WriteFile(dir / "typo.yaml", "env: {id: point-nav}\nagent: {hiden_dim: 3}\n");
+  std::string e = ErrorOf([&] { TrainConfig::Load(typo); });
+  EXPECT_NE(e.find("agent.hiden_dim"), std::string::npos) << e;
+  EXPECT_NE(e.find("hidden_dim"), std::string::npos) << e;  // suggestion
+  EXPECT_NE(e.find("typo.yaml"), std::string::npos) << e;
+  const fs::path section = WriteFile(dir / "section.yaml", "envs: {id: point-nav}\n");
+  EXPECT_NE(ErrorOf([&] { TrainConfig::Load(section); }), "");
+  const fs::path type = WriteFile(dir / "type.yaml", "experiment: {steps_per_task: lots}\n");
+  EXPECT_NE(ErrorOf([&] { TrainConfig::Load(type); }).find("experiment.steps_per_task"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf([&] { TrainConfig::Load(std::nullopt, {"experiment.sede=1"}); }), "");
+
+  auto invalid = [](const std::function<void(TrainConfig&)>& mutate) {
+    TrainConfig c;
+    c.env.id = "point-nav";
+    mutate(c);
+    return ErrorOf([&] { c.Validate(); });
+  };
+  EXPECT_EQ(invalid([](TrainConfig&) {}), "");
+  EXPECT_NE(invalid([](TrainConfig& c) { c.env.tasks = {"reach"}; }).find("exclusive"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.env.envs_per_task = 0; }).find("envs_per_task"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.replay.sampling = "weighted"; }).find("sampling"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.experiment.updates_per_step = -1; })
+                .find("updates_per_step"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.experiment.eval_episodes = 0; }).find("eval_episodes"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.experiment.num_threads = 0; }).find("num_threads"),
+            std::string::npos);
+  EXPECT_NE(invalid([](TrainConfig& c) { c.agent.discount = 2; }), "");
+  EXPECT_NE(invalid([](TrainConfig& c) { c.agent.architecture = "transformer"; }), "");
+  EXPECT_NE(invalid([](TrainConfig& c) { c.env.task_states = {{{"goal", 1}}}; })
+                .find("task_states"),
+            std::string::npos);
+}
+
+TEST(TrainConfigTest, ShippedConfigsLoadAndValidate) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(SourceDir() / "configs")) {
+    const std::string name = entry.path().filename().string();
+    if (entry.path().extension() != ".yaml" || name == "demo.yaml") continue;
+    SCOPED_TRACE(name);
+    TrainConfig c;
+    ASSERT_NO_THROW(c = TrainConfig::Load(entry.path()));
+    EXPECT_NO_THROW(c.Validate());
+    EXPECT_EQ(c.experiment.run_dir, "runs/" + entry.path().stem().string());
+    // the envs exist and the tasks resolve (MT10 builds ten MuJoCo tasks)
+    if (DefaultRegistry().Contains(c.env.id.empty() ? c.env.tasks.front() : c.env.id)) {
+      const TaskSet tasks = ResolveTasks(c.env, DefaultRegistry());
+      EXPECT_GE(tasks.size(), 1);
+      if (c.env.id == "mt10") {
+        EXPECT_EQ(tasks.size(), 10);
+      }
+      if (name == "point_nav3_mtsac.yaml") {
+        EXPECT_EQ(tasks.size(), 3);
+      }
+      const EnvFacts facts = InspectEnvs(tasks, DefaultRegistry());
+      EXPECT_GT(facts.episode_length, 0);
+    }
+    ++count;
+  }
+  EXPECT_GE(count, 8);
+}
+
+TEST(TaskSetTest, ResolvesListsSamplesAndExplicitStates) {
+  const Registry& registry = DefaultRegistry();
+  EnvSectionConfig env;
+  env.id = "point-nav";
+  env.num_tasks = 3;
+  TaskSet sampled = ResolveTasks(env, registry);
+  ASSERT_EQ(sampled.size(), 3);
+  EXPECT_EQ(sampled.tasks[1].name, "point-nav/1");
+  EXPECT_NE(sampled.tasks[0].variations[0], sampled.tasks[1].variations[0]);
+  // deterministic in task_seed, and it round-trips through JSON
+  EXPECT_EQ(ResolveTasks(env, registry).ToJson(), sampled.ToJson());
+  EXPECT_EQ(TaskSet::FromJson(sampled.ToJson()).ToJson(), sampled.ToJson());
+  env.task_seed = 5;
+  EXPECT_NE(ResolveTasks(env, registry).ToJson(), sampled.ToJson());
+
+  EnvSectionConfig list;
+  list.tasks = {"point-nav", "point-nav", "cartpole"};
+  TaskSet named = ResolveTasks(list, registry);
+  EXPECT_EQ(named.tasks[0].name, "point-nav");
+  EXPECT_EQ(named.tasks[1].name, "point-nav#1");
+  EXPECT_EQ(named.tasks[2].env_id, "cartpole");
+
+  EnvSectionConfig explicit_states;
+  explicit_states.id = "point-nav";
+  explicit_states.task_states = nlohmann::json::parse(
+      R"([{"env": "point-nav", "params": {"goal": [0.1, 0.2]}}])");
+  EXPECT_EQ(ResolveTasks(explicit_states, registry).tasks[0].variations[0].params["goal"][1],
+            0.2);
+  explicit_states.task_states[0]["params"]["goal"] = {9.0, 0.0};  // outside the range
+  EXPECT_NE(ErrorOf([&] { ResolveTasks(explicit_states, registry); }).find("task_states.0"),
+            std::string::npos);
+  EnvSectionConfig unknown;
+  unknown.id = "point-nva";
+  EXPECT_NE(ErrorOf([&] { ResolveTasks(unknown, registry); }).find("point-nav"),
+            std::string::npos);
+  // cartpole (discrete actions, other sizes) cannot join a SAC run
+  EXPECT_NE(ErrorOf([&] { InspectEnvs(named, registry); }).find("cartpole"), std::string::npos);
+}
+
+TEST(RunLogTest, JsonLinesWithCsvThatGrowsColumnsAndTruncates) {
+  const fs::path dir = Scratch("log");
+  {
+    RunLog log(dir, "m");
+    log.Append({{"step", 1}, {"a", 1.5}});
+    log.Append({{"step", 2}, {"a", 2.5}, {"b", nullptr}});
+    log.Append({{"step", 3}, {"a", 3.5}, {"nested", {{"x", 1}, {"y", "s,t"}}}});
+  }
+  auto slurp = [](const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  };
+  EXPECT_EQ(slurp(dir / "m.csv"),
+            "step,a,b,nested.x,nested.y\n1,1.5,,,\n2,2.5,,,\n3,3.5,,1,\"s,t\"\n");
+  EXPECT_EQ(ReadJsonLines(dir / "m.jsonl").size(), 3u);
+  RunLog reopened(dir, "m");
+  reopened.TruncateAfter(2);
+  EXPECT_EQ(ReadJsonLines(dir / "m.jsonl").size(), 2u);
+  EXPECT_EQ(slurp(dir / "m.csv"), "step,a,b\n1,1.5,\n2,2.5,\n");
+  reopened.Append({{"step", 3}, {"a", 4.0}});
+  EXPECT_EQ(slurp(dir / "m.csv"), "step,a,b\n1,1.5,\n2,2.5,\n3,4.0,\n");
+  // a line torn by a crash at the end is skipped
+  std::ofstream(dir / "m.jsonl", std::ios::app) << "{\"step\": 4, \"a\"";
+  EXPECT_EQ(ReadJsonLines(dir / "m.jsonl").size(), 3u);
+}
+
+}  // namespace
+}  // namespace manyworlds::experiments
