@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libmujoco-dev            # MuJoCo 2.2.2 physics
+  libmujoco-dev libqhull-dev  # MuJoCo 2.2.2 physics (its CMake package names qhull's include dir)
   libtorch-dev             # libtorch 1.13.1 (agents)
   libopenblas0-pthread     # libtorch only *recommends* it; without it GEMM falls back to reference BLAS
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev

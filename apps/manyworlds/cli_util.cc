@@ -11,6 +11,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/core/rng.h"
+#include "manyworlds/envs/all.h"
 
 namespace manyworlds::cli {
 
@@ -56,7 +57,7 @@ CLI::Validator Unsigned() {
 }
 
 const std::vector<std::string>& PolicyNames() {
-  static const std::vector<std::string> names = {"random"};
+  static const std::vector<std::string> names = {"random", "scripted"};
   return names;
 }
 
@@ -71,6 +72,7 @@ void CheckPolicyName(std::string_view name) {
 
 std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed) {
   CheckPolicyName(name);
+  if (name == "scripted") return MakeScriptedPolicy(env);
   return std::make_unique<RandomPolicy>(env.spec().action_space, seed);
 }
 

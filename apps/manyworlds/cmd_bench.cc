@@ -44,7 +44,8 @@ void RunBenchEnv(const BenchEnvArgs& args) {
 
 }  // namespace
 
-void AddBenchCommand(CLI::App& app, CommandContext& /*context*/) {
+void AddBenchCommand(CLI::App& app, CommandContext& context) {
+  (void)context;
   CLI::App* bench = app.add_subcommand("bench", "Benchmarks");
   bench->require_subcommand(1);
   auto args = std::make_shared<BenchEnvArgs>();
@@ -68,6 +69,9 @@ void AddBenchCommand(CLI::App& app, CommandContext& /*context*/) {
   cmd->add_option("--option", args->options, "env option key=value (repeatable)");
   cmd->add_flag("--json", args->json, "print JSON (steps_per_s is the median)");
   cmd->callback([args] { RunBenchEnv(*args); });
+#ifdef MANYWORLDS_HAS_AGENTS
+  AddBenchAgentSubcommand(*bench, context);
+#endif
 }
 
 }  // namespace manyworlds::cli

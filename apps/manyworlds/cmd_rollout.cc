@@ -19,9 +19,36 @@ struct RolloutArgs {
   bool json = false;
 };
 
+// Benchmarks: --episodes variations of every task, in order, and a table of
+// per-task success.
+void RunGroupRollout(Env& env, const std::vector<TaskGroup>& groups, const RolloutArgs& args) {
+  env.Seed(args.seed);
+  env.SeedTask(args.task_seed);
+  auto policy = MakePolicy(args.policy, env, MixSeed(args.seed, kPolicySeedStream));
+  const std::vector<GroupRollout> results =
+      RolloutTaskGroups(env, *policy, groups, args.episodes);
+  if (args.json) {
+    PrintJson(GroupsToJson(results));
+    return;
+  }
+  Table table({"task", ">episodes", ">mean return", ">success"});
+  for (const GroupRollout& r : results) {
+    table.AddRow({r.name, std::to_string(r.summary.episodes.size()),
+                  Fixed(r.summary.mean_return, 1), SuccessRate(r.summary.success_rate)});
+  }
+  const RolloutSummary all = MergeGroups(results);
+  table.AddRow({"mean", std::to_string(all.episodes.size()), Fixed(all.mean_return, 1),
+                SuccessRate(all.success_rate)});
+  table.Print(std::cout);
+}
+
 void RunRollout(const RolloutArgs& args) {
   CheckPolicyName(args.policy);
   auto env = Make(args.env, ParseEnvOptions(args.options));
+  if (const auto groups = env->EvaluationTasks(); !groups.empty()) {
+    RunGroupRollout(*env, groups, args);
+    return;
+  }
   const RolloutSummary summary =
       SeededRollout(*env, args.policy, args.seed, args.task_seed, args.episodes);
   if (args.json) {
@@ -47,8 +74,8 @@ void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
   auto args = std::make_shared<RolloutArgs>();
   CLI::App* cmd = app.add_subcommand("rollout", "Run seeded episodes of a policy in one env");
   cmd->add_option("--env", args->env, "env id (see `manyworlds envs`)")->required();
-  cmd->add_option("--policy", args->policy, "policy: random")->capture_default_str();
-  cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1)")
+  cmd->add_option("--policy", args->policy, "policy: random, or scripted (manipulation tasks and benchmarks)")->capture_default_str();
+  cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1); for a benchmark, the first N variations of each task")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")

@@ -21,6 +21,15 @@ void AddRolloutCommand(CLI::App& app, CommandContext& context);
 void AddCheckEnvCommand(CLI::App& app, CommandContext& context);
 void AddBenchCommand(CLI::App& app, CommandContext& context);
 void AddDemoCommand(CLI::App& app, CommandContext& context);
+void AddExportXmlCommand(CLI::App& app, CommandContext& context);
+void AddRenderCommand(CLI::App& app, CommandContext& context);
+
+// Commands that need libtorch live in torch_*.cc files, built only when the
+// agents layer is (MANYWORLDS_HAS_AGENTS).
+void AddTrainCommand(CLI::App& app, CommandContext& context);
+void AddEvalCommand(CLI::App& app, CommandContext& context);
+// `bench agent`, added under the `bench` command.
+void AddBenchAgentSubcommand(CLI::App& bench, CommandContext& context);
 
 }  // namespace manyworlds::cli
 

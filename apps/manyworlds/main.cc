@@ -25,6 +25,12 @@ int main(int argc, char** argv) {
   cli::AddCheckEnvCommand(app, context);
   cli::AddBenchCommand(app, context);
   cli::AddDemoCommand(app, context);
+  cli::AddExportXmlCommand(app, context);
+  cli::AddRenderCommand(app, context);
+#ifdef MANYWORLDS_HAS_AGENTS
+  cli::AddTrainCommand(app, context);
+  cli::AddEvalCommand(app, context);
+#endif
 
   // every failure is one line on stderr; 2 = bad usage or config, 1 = runtime
   try {

@@ -67,7 +67,8 @@ bool IsOneErrorLine(const std::string& err) {
 
 TEST(CliTest, HelpExitsZeroEverywhere) {
   for (const char* args : {"--help", "envs --help", "rollout --help", "check-env --help",
-                           "bench --help", "bench env --help", "demo --help"}) {
+                           "bench --help", "bench env --help", "demo --help",
+                           "export-xml --help"}) {
     const RunResult r = RunCli(args);
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
@@ -106,7 +107,8 @@ TEST(CliTest, BadInputIsAUsageError) {
        {"rollout --env bandit --option n_armz=3", "rollout --env bandit --option n_arms",
         "rollout --env bandit --option n_arms=many", "rollout --env cartpole --policy scripted",
         "rollout --env cartpole --episodes 0", "rollout --env cartpole --seed -1",
-        "rollout --env cartpole --frobnicate",
+        "rollout --env cartpole --frobnicate", "rollout --env cartpole --policy expert",
+        "export-xml --env cartpole --out x.xml", "export-xml --env reach",
         "rollout", "frobnicate", "", "bench", "demo nonexistent.yaml",
         "demo --out x episdoes=3", "demo --out x episodes=ten", "demo --out x envs=[cartpol]"}) {
     const RunResult r = RunCli(args);
@@ -116,7 +118,9 @@ TEST(CliTest, BadInputIsAUsageError) {
   }
   const RunResult option = RunCli("rollout --env bandit --option n_armz=3");
   EXPECT_NE(option.err.find("did you mean 'n_arms'"), std::string::npos) << option.err;
-  EXPECT_NE(RunCli("rollout --env cartpole --policy scripted").err.find("allowed: random"),
+  EXPECT_NE(RunCli("rollout --env cartpole --policy scripted").err.find("no scripted policy"),
+            std::string::npos);
+  EXPECT_NE(RunCli("rollout --env cartpole --policy expert").err.find("allowed: random, scripted"),
             std::string::npos);
   EXPECT_NE(RunCli("demo --out x episdoes=3").err.find("did you mean 'episodes'"),
             std::string::npos);
@@ -136,6 +140,42 @@ TEST(CliTest, RolloutJsonIsByteIdenticalAcrossRuns) {
   EXPECT_TRUE(summary.contains("mean_return"));
   EXPECT_TRUE(summary.contains("success_rate"));
   EXPECT_NE(RunCli("rollout --env point-nav --episodes 3 --seed 6 --json").out, a.out);
+}
+
+// The contract holds for every registered env, benchmarks included.
+TEST(CliTest, CheckEnvPassesOnEveryRegisteredEnv) {
+  const RunResult list = RunCli("envs --json");
+  ASSERT_EQ(list.exit_code, 0) << list.err;
+  const auto envs = nlohmann::json::parse(list.out);
+  ASSERT_GE(envs.size(), 7u);
+  for (const auto& e : envs) {
+    const std::string id = e["id"];
+    const RunResult r = RunCli("check-env --env " + id);
+    EXPECT_EQ(r.exit_code, 0) << id << "\n" << r.out << r.err;
+  }
+}
+
+TEST(CliTest, ScriptedRolloutOverABenchmarkReportsEveryTask) {
+  const std::string args = "rollout --env mt1 --option task=reach --policy scripted --episodes 5 --json";
+  const RunResult a = RunCli(args);
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  EXPECT_EQ(a.out, RunCli(args).out);
+  const auto j = nlohmann::json::parse(a.out);
+  ASSERT_EQ(j["per_task"].size(), 1u);
+  EXPECT_EQ(j["per_task"][0]["task"], "reach");
+  EXPECT_EQ(j["per_task"][0]["episodes"], 5);
+  EXPECT_EQ(j["episodes"].size(), 5u);
+  EXPECT_GE(j["success_rate"].get<double>(), 0.8);
+}
+
+TEST(CliTest, ExportXmlWritesALoadableModel) {
+  const fs::path dir = ScratchDir();
+  const RunResult r = RunCli("export-xml --env pick-place --task-seed 4 --out v.xml", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string xml = Slurp(dir / "v.xml");
+  EXPECT_NE(xml.find("<mujoco"), std::string::npos);
+  EXPECT_NE(xml.find("name=\"obj\""), std::string::npos);
+  EXPECT_EQ(xml.find("<include"), std::string::npos);  // self-contained
 }
 
 TEST(CliTest, CheckEnvPassesOnCartpole) {

@@ -1,0 +1,166 @@
+// manyworlds bench agent --agent sac: full SAC updates per second
+// (agents::MeasureSacUpdates) on random batches, for a network and task
+// configuration, with the thread configuration used.
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "apps/manyworlds/cli_util.h"
+#include "apps/manyworlds/commands.h"
+#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac_timing.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/nn/threads.h"
+
+namespace manyworlds::cli {
+namespace {
+
+struct BenchAgentArgs {
+  std::string agent = "sac";
+  int batch = 128;
+  int hidden = 400;
+  int layers = 3;
+  int obs_dim = 39;
+  int action_dim = 4;
+  int tasks = 1;
+  std::string architecture = "mlp";
+  bool pcgrad = false;
+  bool disentangled_alpha = false;
+  int updates = 20;
+  int repeats = 5;
+  int torch_threads = 0;  // 0: the learner's default (nn::ConfigureTorchThreads)
+  int blas_threads = 0;   // 0: the BLAS default (OPENBLAS_NUM_THREADS or one per core)
+  uint64_t seed = 0;
+  bool json = false;
+};
+
+std::string Join(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+void RunBenchAgent(const BenchAgentArgs& args) {
+  if (args.agent != "sac") {
+    throw ConfigError("--agent: unknown agent '" + args.agent + "'" +
+                      SuggestNearest(args.agent, {"sac"}) + "; allowed: sac");
+  }
+  agents::SacConfig config;
+  config.batch_size = args.batch;
+  config.hidden_dim = args.hidden;
+  config.num_layers = args.layers;
+  config.architecture = args.architecture;
+  config.pcgrad = args.pcgrad;
+  config.disentangled_alpha = args.disentangled_alpha;
+  config.seed = args.seed;
+  try {
+    config.Validate();
+  } catch (const ConfigError& e) {
+    // Name the flag rather than the config field.
+    if (config.architecture != args.architecture ||
+        std::string(e.what()).find("architecture") != std::string::npos) {
+      throw ConfigError("--architecture must be one of " + Join(agents::SacArchitectures()) +
+                        ", got '" + args.architecture + "'");
+    }
+    throw;
+  }
+  if (args.torch_threads > 0 || args.blas_threads > 0) {
+    nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
+  }
+  const agents::SacTimingResult r = agents::MeasureSacUpdates(
+      config, args.obs_dim, args.action_dim, args.tasks, args.updates, args.repeats);
+  const nn::ThreadInfo threads = nn::CurrentThreads();
+  if (args.json) {
+    PrintJson({{"agent", args.agent},
+               {"architecture", args.architecture},
+               {"pcgrad", args.pcgrad},
+               {"disentangled_alpha", args.disentangled_alpha},
+               {"batch", args.batch},
+               {"hidden", args.hidden},
+               {"layers", args.layers},
+               {"obs_dim", args.obs_dim},
+               {"action_dim", args.action_dim},
+               {"tasks", args.tasks},
+               {"updates_per_repeat", args.updates},
+               {"repeats", args.repeats},
+               {"updates_per_s", r.updates_per_s},
+               {"ms_per_update", 1000.0 / r.updates_per_s},
+               {"samples", r.samples},
+               {"threads",
+                {{"torch_intra_op", threads.torch_intra_op},
+                 {"torch_inter_op", threads.torch_inter_op},
+                 {"blas", threads.blas_threads},
+                 {"blas_library", threads.blas}}}});
+    return;
+  }
+  std::cout << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "") << ", "
+            << args.tasks << " task" << (args.tasks == 1 ? "" : "s") << "): "
+            << Fixed(r.updates_per_s, 1) << " updates/s, " << Fixed(1000.0 / r.updates_per_s, 2)
+            << " ms/update (median of " << r.samples.size() << " repeats of " << args.updates
+            << " updates)\nbatch " << args.batch << ", " << args.layers << " x " << args.hidden
+            << ", obs " << args.obs_dim << ", action " << args.action_dim
+            << "\nthreads: torch intra-op " << threads.torch_intra_op << ", inter-op "
+            << threads.torch_inter_op << "; BLAS "
+            << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
+            << " (" << threads.blas << ")\nsamples:";
+  for (double s : r.samples) std::cout << " " << Fixed(s, 1);
+  std::cout << "\n";
+}
+
+}  // namespace
+
+void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
+  auto args = std::make_shared<BenchAgentArgs>();
+  CLI::App* cmd = bench.add_subcommand(
+      "agent",
+      "Agent updates per second: full SAC updates (critic, actor, temperature, targets) on\n"
+      "random batches of the given sizes; the observation carries no task id, the\n"
+      "learner conditions on the task index per --architecture");
+  cmd->add_option("--agent", args->agent, "agent to time (allowed: sac)")->capture_default_str();
+  cmd->add_option("--batch", args->batch, "batch size")->capture_default_str()->check(AtLeastOne());
+  cmd->add_option("--hidden", args->hidden, "hidden width of actor and critics")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--layers", args->layers, "hidden layers of actor and critics")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--obs-dim", args->obs_dim, "observation size (without any task id)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--action-dim", args->action_dim, "action size")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--tasks", args->tasks, "number of tasks (batches draw task indices uniformly)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--architecture", args->architecture,
+                  "task conditioning: " + Join(agents::SacArchitectures()))
+      ->capture_default_str();
+  cmd->add_flag("--pcgrad", args->pcgrad,
+                "combine per-task gradients with PCGrad (one backward per task in the batch)");
+  cmd->add_flag("--disentangled-alpha", args->disentangled_alpha, "one temperature per task");
+  cmd->add_option("--updates", args->updates, "timed updates per repeat (after 3 warm-up updates)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--repeats", args->repeats, "timed repeats (the median is reported)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--torch-threads", args->torch_threads,
+                  "libtorch intra-op threads (default: 1, as every learner sets)")
+      ->check(AtLeastOne());
+  cmd->add_option("--blas-threads", args->blas_threads,
+                  "OpenBLAS threads (default: OPENBLAS_NUM_THREADS, else one per core); at most "
+                  "one of --torch-threads and --blas-threads may be > 1")
+      ->check(AtLeastOne());
+  cmd->add_option("--seed", args->seed, "seed of the networks and the random batches")
+      ->capture_default_str()
+      ->check(Unsigned());
+  cmd->add_flag("--json", args->json,
+                "print JSON: updates_per_s (median), samples, ms_per_update, the configuration "
+                "and the threads used");
+  cmd->callback([args] { RunBenchAgent(*args); });
+}
+
+}  // namespace manyworlds::cli

@@ -1,0 +1,273 @@
+// manyworlds train CONFIG.yaml [key=value ...] | --resume RUN_DIR
+// manyworlds eval RUN_DIR [--episodes N] [--checkpoint latest|step_N|DIR] [--json]
+//
+// Training and evaluation of multi-task SAC (experiments/trainer.h). Results
+// go to the run directory; stdout gets the per-task success table (or JSON);
+// stderr gets a progress line when it is a terminal or with --progress.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "apps/manyworlds/cli_util.h"
+#include "apps/manyworlds/commands.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/experiments/trainer.h"
+
+namespace manyworlds::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using experiments::EvalResult;
+
+std::string Duration(double seconds) {
+  if (!(seconds >= 0) || seconds > 1e7) return "?";
+  const auto s = static_cast<int64_t>(seconds + 0.5);
+  char text[32];
+  if (s >= 3600) {
+    std::snprintf(text, sizeof(text), "%lldh%02lldm", static_cast<long long>(s / 3600),
+                  static_cast<long long>(s % 3600 / 60));
+  } else if (s >= 60) {
+    std::snprintf(text, sizeof(text), "%lldm%02llds", static_cast<long long>(s / 60),
+                  static_cast<long long>(s % 60));
+  } else {
+    std::snprintf(text, sizeof(text), "%llds", static_cast<long long>(s));
+  }
+  return text;
+}
+
+std::string Success(const std::optional<double>& rate) {
+  return rate ? Fixed(*rate, 2) : "-";
+}
+
+void PrintEvalTable(const EvalResult& eval, std::ostream& out) {
+  Table table({"task", ">success", ">return", ">length"});
+  for (const auto& t : eval.per_task) {
+    table.AddRow({t.task, Success(t.success), Fixed(t.mean_return, 2), Fixed(t.mean_length, 1)});
+  }
+  table.AddRow({"mean", Success(eval.mean_success), Fixed(eval.mean_return, 2), ""});
+  table.Print(out);
+}
+
+// One redrawn status line on stderr: on a terminal at most 10 times a
+// second, otherwise (with --progress) one line every 2 seconds.
+class TrainStatus {
+ public:
+  explicit TrainStatus(bool force)
+      : tty_(isatty(STDERR_FILENO) != 0), enabled_(tty_ || force) {}
+  ~TrainStatus() { Clear(); }
+
+  void Update(const experiments::TrainProgress& p) {
+    if (!enabled_) return;
+    const auto now = Clock::now();
+    const bool done = p.step >= p.total_steps;
+    if (!done && now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::seconds(2))) {
+      return;
+    }
+    last_ = now;
+    const double fraction =
+        p.total_steps > 0 ? static_cast<double>(p.step) / static_cast<double>(p.total_steps) : 1;
+    constexpr int kWidth = 20;
+    std::string bar(kWidth, '.');
+    for (int i = 0; i < static_cast<int>(fraction * kWidth); ++i) bar[i] = '#';
+    const double eta = p.env_steps_per_s > 0 && fraction > 0
+                           ? (session_elapsed(p) / std::max(fraction - start_fraction_, 1e-9)) *
+                                 (1.0 - fraction)
+                           : -1;
+    std::string line = "train " + Human(static_cast<double>(p.step)) + "/" +
+                       Human(static_cast<double>(p.total_steps)) + " steps [" + bar + "] " +
+                       Human(p.env_steps_per_s) + " env steps/s " + Human(p.updates_per_s) +
+                       " updates/s";
+    if (p.last_eval) {
+      line += p.last_eval->mean_success ? " success " + Fixed(*p.last_eval->mean_success, 2)
+                                        : " return " + Fixed(p.last_eval->mean_return, 1);
+    }
+    line += " ETA " + (eta >= 0 ? Duration(eta) : std::string("?"));
+    Write(line);
+  }
+
+  void Note(const std::string& text) {
+    if (!enabled_) return;
+    Clear();
+    std::cerr << text << "\n";
+  }
+
+  void Start(const experiments::Trainer& trainer, int64_t total) {
+    session_start_ = Clock::now();
+    start_fraction_ = total > 0 ? static_cast<double>(trainer.step()) / total : 0;
+  }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  double session_elapsed(const experiments::TrainProgress&) const {
+    return std::chrono::duration<double>(Clock::now() - session_start_).count();
+  }
+  void Write(const std::string& line) {
+    if (tty_) {
+      std::cerr << "\r" << line << "\033[K" << std::flush;
+      drawn_ = true;
+    } else {
+      std::cerr << line << "\n";
+    }
+  }
+  void Clear() {
+    if (tty_ && drawn_) std::cerr << "\r\033[K" << std::flush;
+    drawn_ = false;
+  }
+
+  bool tty_, enabled_;
+  bool drawn_ = false;
+  Clock::time_point last_{}, session_start_ = Clock::now();
+  double start_fraction_ = 0;
+};
+
+struct TrainArgs {
+  std::vector<std::string> positional;  // CONFIG then overrides
+  std::string resume;
+  int64_t stop_after = -1;
+};
+
+void RunTrain(const TrainArgs& args, const CommandContext& context) {
+  std::optional<experiments::Trainer> trainer;
+  if (!args.resume.empty()) {
+    if (!args.positional.empty()) {
+      throw ConfigError("--resume continues a run with its saved config; drop '" +
+                        args.positional.front() + "'");
+    }
+    trainer.emplace(experiments::Trainer::Resume(args.resume));
+  } else {
+    std::optional<fs::path> file;
+    std::vector<std::string> overrides;
+    for (const auto& arg : args.positional) {
+      if (arg.find('=') != std::string::npos) {
+        overrides.push_back(arg);
+      } else if (!file && overrides.empty()) {
+        file = arg;
+      } else {
+        throw ConfigError("'" + arg + "' is not an override of the form key=value");
+      }
+    }
+    if (!file) {
+      throw ConfigError("train needs a config file, e.g. `manyworlds train "
+                        "configs/point_nav_sac.yaml`, or --resume RUN_DIR");
+    }
+    experiments::TrainConfig config = experiments::TrainConfig::Load(file, overrides);
+    trainer.emplace(experiments::Trainer::Create(config));
+  }
+
+  const std::string run_dir = trainer->run_dir().string();
+  std::optional<TrainStatus> status_line(std::in_place, context.progress);
+  TrainStatus& status = *status_line;
+  const int64_t steps = trainer->config().experiment.steps_per_task;
+  status.Start(*trainer, steps);
+  if (trainer->step() > 0) {
+    status.Note("train: resuming " + run_dir + " at step " + std::to_string(trainer->step()));
+  }
+  experiments::TrainCallbacks callbacks;
+  callbacks.on_round = [&](const experiments::TrainProgress& p) { status.Update(p); };
+  callbacks.on_eval = [&](const EvalResult& e) {
+    status.Note("eval @ " + std::to_string(e.step) + ": success " + Success(e.mean_success) +
+                ", return " + Fixed(e.mean_return, 2));
+  };
+  if (args.stop_after >= 0) callbacks.stop_after_step = args.stop_after;
+  const experiments::TrainSummary summary = trainer->Run(callbacks);
+  status_line.reset();  // clears the status line
+
+  if (summary.final_eval) PrintEvalTable(*summary.final_eval, std::cout);
+  if (!summary.finished) {
+    std::cerr << "train: stopped at step " << summary.step << " after its checkpoint; continue "
+              << "with `manyworlds train --resume " << run_dir << "`\n";
+    return;
+  }
+  std::cerr << "train: " << run_dir << ": " << summary.step << " steps per env, "
+            << summary.updates << " updates in " << Duration(summary.wall_s) << " ("
+            << Human(summary.env_steps_per_s) << " env steps/s, "
+            << Human(summary.updates_per_s) << " updates/s this session)\n";
+}
+
+struct EvalArgs {
+  std::string run_dir;
+  std::string checkpoint = "latest";
+  int64_t episodes = 0;
+  bool json = false;
+};
+
+fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
+  if (which == "latest") return experiments::LatestCheckpoint(run_dir);
+  const fs::path in_run = experiments::RunPaths{run_dir}.checkpoints() / which;
+  if (fs::is_directory(in_run)) return in_run;
+  if (fs::is_directory(which)) return which;
+  std::string available;
+  const fs::path dir = experiments::RunPaths{run_dir}.checkpoints();
+  if (fs::is_directory(dir)) {
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.is_directory() && name.rfind("step_", 0) == 0) {
+        available += (available.empty() ? "" : ", ") + name;
+      }
+    }
+  }
+  throw ConfigError("no checkpoint '" + which + "' in '" + run_dir.string() + "' (available: " +
+                    (available.empty() ? "none" : available) + ", or 'latest')");
+}
+
+void RunEval(const EvalArgs& args, const CommandContext& context) {
+  const experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
+  const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
+  const int64_t episodes =
+      args.episodes > 0 ? args.episodes : run.config.experiment.eval_episodes;
+  if (context.progress || isatty(STDERR_FILENO)) {
+    std::cerr << "eval: " << checkpoint.string() << ", " << episodes << " episodes per task\n";
+  }
+  const EvalResult result = experiments::EvaluateCheckpoint(run, checkpoint, episodes);
+  if (args.json) {
+    nlohmann::json json = result.ToJson();
+    json["checkpoint"] = checkpoint.string();
+    PrintJson(json);
+    return;
+  }
+  std::cout << "checkpoint " << checkpoint.filename().string() << " (step " << result.step
+            << "), " << episodes << " episodes per task\n";
+  PrintEvalTable(result, std::cout);
+}
+
+}  // namespace
+
+void AddTrainCommand(CLI::App& app, CommandContext& context) {
+  auto args = std::make_shared<TrainArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "train", "Train multi-task SAC; writes config.yaml, metrics, evaluations, checkpoints "
+               "and summary.json into the run directory");
+  cmd->add_option("args", args->positional,
+                  "CONFIG [key=value ...]: a YAML file (see configs/) and Hydra-style "
+                  "overrides such as experiment.seed=2 agent.hidden_dim=64");
+  cmd->add_option("--resume", args->resume,
+                  "continue the run in this directory from its latest checkpoint");
+  cmd->add_option("--stop-after", args->stop_after,
+                  "stop after the first checkpoint at or past this many steps per env "
+                  "(continue later with --resume)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->callback([args, &context] { RunTrain(*args, context); });
+}
+
+void AddEvalCommand(CLI::App& app, CommandContext& context) {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Evaluate a saved run: deterministic actions, per-task success rate and return");
+  cmd->add_option("run_dir", args->run_dir, "the run directory")->required();
+  cmd->add_option("--episodes", args->episodes,
+                  "episodes per task (default: the run's experiment.eval_episodes)")
+      ->check(AtLeastOne());
+  cmd->add_option("--checkpoint", args->checkpoint,
+                  "'latest', a checkpoint name (step_...) or a checkpoint directory");
+  cmd->add_flag("--json", args->json,
+                "print JSON ({per_task, mean_success, mean_return, ...}) instead of a table");
+  cmd->callback([args, &context] { RunEval(*args, context); });
+}
+
+}  // namespace manyworlds::cli
