@@ -167,5 +167,35 @@ TEST_F(BenchmarkTest, ExportedXmlLoadsAndPlacesTheVariation) {
   std::remove(path.c_str());
 }
 
+// The keyframe of an exported variation is the state a reset produces, for a
+// free object and for fixtures whose joints start away from 0.
+TEST_F(BenchmarkTest, ExportedKeyframeIsTheResetState) {
+  for (const char* task_id : {"push", "door-close", "drawer-close", "window-close"}) {
+    SCOPED_TRACE(task_id);
+    auto env = Make("mt1", {{"task", task_id}});
+    env->SeedTask(5);
+    env->ResetTaskState();
+    env->Reset();
+    const SawyerTask* task = ActiveSawyerTask(*env);
+    ASSERT_NE(task, nullptr);
+    const std::string path = ::testing::TempDir() + "/keyframe_variation.xml";
+    task->SaveVariationXml(path);
+    sim::ModelPtr loaded = sim::LoadModelFromFile(path);
+    std::remove(path.c_str());
+    ASSERT_EQ(loaded->nkey, 1);
+    ASSERT_EQ(loaded->nq, task->model()->nq);
+    sim::DataPtr data = sim::MakeData(loaded.get());
+    mj_resetDataKeyframe(loaded.get(), data.get(), 0);
+    mj_forward(loaded.get(), data.get());
+    for (int i = 0; i < loaded->nq; ++i) {
+      EXPECT_NEAR(data->qpos[i], task->data()->qpos[i], 1e-9) << "qpos " << i;
+    }
+    const int hand = mj_name2id(loaded.get(), mjOBJ_SITE, "hand_site");
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_NEAR(data->site_xpos[3 * hand + i], task->state().hand[i], 1e-6);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace manyworlds::manipulation

@@ -32,8 +32,9 @@ sim::ModelPtr LoadTaskModel(std::string_view file) {
   return sim::LoadModelFromString(FindAsset(file), OtherAssets(file), file);
 }
 
-void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path) {
-  sim::SaveModelXml(model, FindAsset(file), OtherAssets(file), file, path);
+void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path,
+                      std::string_view extra_elements) {
+  sim::SaveModelXml(model, FindAsset(file), OtherAssets(file), file, path, extra_elements);
 }
 
 }  // namespace manyworlds::manipulation

@@ -27,8 +27,10 @@ std::string_view FindAsset(std::string_view name);
 sim::ModelPtr LoadTaskModel(std::string_view file);
 
 // Writes `model` (compiled from `file`, possibly with moved bodies) as one
-// self-contained MJCF file at `path`. Throws sim::MujocoError.
-void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path);
+// self-contained MJCF file at `path`, with `extra_elements` (e.g. a
+// keyframe) before </mujoco>. Throws sim::MujocoError.
+void SaveTaskModelXml(const mjModel* model, std::string_view file, const std::string& path,
+                      std::string_view extra_elements = {});
 
 }  // namespace manyworlds::manipulation
 

@@ -209,13 +209,18 @@ void SawyerTask::SaveVariationXml(const std::string& path) const {
     throw EpisodeStateError("env '" + id() + "': SaveVariationXml needs a task; call "
                             "SetTaskState or ResetTaskState first");
   }
-  // Place everything in copies, then move the start poses into the bodies,
-  // since the saved file carries body frames, not a state.
+  // Rebuild the reset state in copies (as DoReset does), move the start
+  // poses into the body frames, and save the whole state as keyframe
+  // "reset": the body frames alone leave hinges and slides at 0 and the arm
+  // straight.
   sim::ModelPtr m(mj_copyModel(nullptr, model_.get()));
   sim::DataPtr d = sim::MakeData(m.get());
   mj_resetData(m.get(), d.get());
+  sim::SetState(m.get(), d.get(), settled_);
   // PlaceObjects writes only into the model and data it is given.
   const_cast<SawyerTask*>(this)->PlaceObjects(m.get(), d.get());
+  for (int i = 0; i < 3; ++i) d->mocap_pos[3 * goal_mocap_ + i] = goal_pos_[i];
+  mj_forward(m.get(), d.get());
   if (obj_qpos_ >= 0) {
     mju_copy3(m->body_pos + 3 * obj_body_, d->qpos + obj_qpos_);
     mju_copy4(m->body_quat + 4 * obj_body_, d->qpos + obj_qpos_ + 3);
@@ -224,7 +229,7 @@ void SawyerTask::SaveVariationXml(const std::string& path) const {
     if (m->body_mocapid[b] == goal_mocap_) mju_copy3(m->body_pos + 3 * b, goal_pos_.data());
     if (m->body_mocapid[b] == hand_mocap_) mju_copy3(m->body_pos + 3 * b, config_.hand_init.data());
   }
-  SaveTaskModelXml(m.get(), config_.xml_file, path);
+  SaveTaskModelXml(m.get(), config_.xml_file, path, sim::KeyframeXml(m.get(), d.get(), "reset"));
 }
 
 void SawyerTask::WriteObject2(const mjData*, float* pos_quat) const {

@@ -113,8 +113,9 @@ class SawyerTask : public Env {
 
   // Writes the complete MJCF of the current variation (objects, fixtures,
   // goal marker and hand target where a reset puts them) to `path`; MuJoCo
-  // loads it on its own. The arm starts straight there and is pulled to the
-  // hand start by the weld in the first steps. Throws EpisodeStateError
+  // loads it on its own. Its keyframe "reset" holds the complete state after
+  // a reset (arm at the hand start, fixtures at their start angles):
+  // mj_resetDataKeyframe(m, d, 0) restores it. Throws EpisodeStateError
   // before a task is set, sim::MujocoError if writing fails.
   void SaveVariationXml(const std::string& path) const;
   const std::string& last_sim_warning() const { return last_sim_warning_; }

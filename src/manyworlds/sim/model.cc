@@ -2,7 +2,10 @@
 
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <mutex>
+#include <sstream>
 
 namespace manyworlds::sim {
 namespace {
@@ -41,10 +44,55 @@ std::unique_ptr<mjVFS, VfsDeleter> MakeVfs(std::string_view xml,
   return vfs;
 }
 
+// Numbers as text that parse back to the same doubles.
+void AppendNumbers(std::string* out, const char* attribute, const mjtNum* values, int n) {
+  if (n == 0) return;
+  *out += ' ';
+  *out += attribute;
+  *out += "=\"";
+  char number[32];
+  for (int i = 0; i < n; ++i) {
+    std::snprintf(number, sizeof(number), i == 0 ? "%.17g" : " %.17g", values[i]);
+    *out += number;
+  }
+  *out += '"';
+}
+
+void InsertBeforeClosingTag(const std::string& file, std::string_view elements) {
+  std::string text;
+  {
+    std::ifstream in(file, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    if (!in.good() && !in.eof()) throw MujocoError("cannot read back '" + file + "'");
+  }
+  const size_t close = text.rfind("</mujoco>");
+  if (close == std::string::npos) throw MujocoError("saved MJCF '" + file + "' has no </mujoco>");
+  text.insert(close, std::string(elements));
+  std::ofstream out(file, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) throw MujocoError("cannot write '" + file + "'");
+}
+
 }  // namespace
 
+std::string KeyframeXml(const mjModel* m, const mjData* d, std::string_view name) {
+  if (m->nkey > 0) throw MujocoError("KeyframeXml: the model already has keyframes");
+  std::string xml = "  <keyframe>\n    <key name=\"" + std::string(name) + "\"";
+  AppendNumbers(&xml, "time", &d->time, 1);
+  AppendNumbers(&xml, "qpos", d->qpos, m->nq);
+  AppendNumbers(&xml, "qvel", d->qvel, m->nv);
+  AppendNumbers(&xml, "act", d->act, m->na);
+  AppendNumbers(&xml, "ctrl", d->ctrl, m->nu);
+  AppendNumbers(&xml, "mpos", d->mocap_pos, 3 * m->nmocap);
+  AppendNumbers(&xml, "mquat", d->mocap_quat, 4 * m->nmocap);
+  xml += "/>\n  </keyframe>\n";
+  return xml;
+}
+
 void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const VirtualFile> files,
-                  std::string_view main_name, const std::string& path) {
+                  std::string_view main_name, const std::string& path,
+                  std::string_view extra_elements) {
   InstallMujocoHandlers();
   if (model == nullptr) throw MujocoError("SaveModelXml: model is null");
   auto vfs = MakeVfs(xml, files, main_name);
@@ -65,6 +113,14 @@ void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const Vi
       std::remove(temp.c_str());
       throw MujocoError("cannot write MJCF to '" + path + "': " +
                         (error[0] ? error : "mj_saveLastXML failed"));
+    }
+  }
+  if (!extra_elements.empty()) {
+    try {
+      InsertBeforeClosingTag(temp, extra_elements);
+    } catch (...) {
+      std::remove(temp.c_str());
+      throw;
     }
   }
   if (std::rename(temp.c_str(), path.c_str()) != 0) {

@@ -49,9 +49,18 @@ ModelPtr LoadModelFromFile(const std::string& path);
 // `path`, atomically. MuJoCo can only save the model it compiled last, so
 // this compiles `xml` (with `files`) again and, under the loading lock,
 // saves it with the numeric values of `model` (which must come from the same
-// document; e.g. a copy with moved bodies). Throws MujocoError.
+// document; e.g. a copy with moved bodies). `extra_elements`, if given, is
+// MJCF inserted before the closing </mujoco> tag (e.g. KeyframeXml).
+// Throws MujocoError.
 void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const VirtualFile> files,
-                  std::string_view main_name, const std::string& path);
+                  std::string_view main_name, const std::string& path,
+                  std::string_view extra_elements = {});
+
+// A <keyframe> element with one key `name` holding the state in `data`
+// (qpos, qvel, act, ctrl, mocap pose as MuJoCo 2.2's mpos/mquat), printed exactly (17 digits), so that
+// mj_resetDataKeyframe on the saved model restores that state. The model
+// must have no keyframes of its own.
+std::string KeyframeXml(const mjModel* model, const mjData* data, std::string_view name);
 
 // Allocates data for a model (non-null). Throws MujocoError.
 DataPtr MakeData(const mjModel* model);
