@@ -2,8 +2,8 @@
 // seconds each on two cores):
 //  - SAC reaches the goal of point-nav and its return comes close to the
 //    optimum, far above a random policy's;
-//  - MT-SAC solves three point-nav goals that no policy ignoring the task id
-//    can: such a policy follows one path for all goals, so its mean return is
+//  - MT-SAC and multi-head SAC solve three point-nav goals that no policy
+//    ignoring the task id can: such a policy follows one path for all goals, so its mean return is
 //    at most -H x (mean distance from the goals' geometric median).
 #include <unistd.h>
 
@@ -102,10 +102,13 @@ TEST(LearningTest, SacSolvesPointNav) {
   fs::remove_all(dir);
 }
 
-TEST(LearningTest, MtSacSolvesThreeGoalsThatNeedTheTaskId) {
-  const fs::path dir = Scratch("three");
-  TrainConfig config = TrainConfig::Load(SourceDir() / "configs/point_nav3_mtsac.yaml",
-                                         {"experiment.run_dir=" + dir.string()});
+// Trains configs/point_nav3_mtsac.yaml with the given architecture and checks
+// that it beats every policy that ignores the task id.
+void ExpectSolvesThreeGoals(const std::string& architecture) {
+  const fs::path dir = Scratch("three_" + architecture);
+  TrainConfig config = TrainConfig::Load(
+      SourceDir() / "configs/point_nav3_mtsac.yaml",
+      {"experiment.run_dir=" + dir.string(), "agent.architecture=" + architecture});
   Trainer trainer = Trainer::Create(config);
   const TrainSummary summary = trainer.Run();
   ASSERT_TRUE(summary.finished);
@@ -126,7 +129,7 @@ TEST(LearningTest, MtSacSolvesThreeGoalsThatNeedTheTaskId) {
   const EvalResult blind = evaluator.Run([&](const torch::Tensor& obs, const torch::Tensor& task) {
     return learner->Act(obs, torch::zeros_like(task), true);
   });
-  std::cout << "point-nav x3: MT-SAC success " << *learned.mean_success << " return "
+  std::cout << "point-nav x3: " << architecture << " success " << *learned.mean_success << " return "
             << learned.mean_return << "; task-blind bound " << blind_bound
             << ", learner without its task id " << blind.mean_return << "; " << summary.wall_s
             << " s\n";
@@ -136,6 +139,12 @@ TEST(LearningTest, MtSacSolvesThreeGoalsThatNeedTheTaskId) {
   for (const auto& t : learned.per_task) EXPECT_GT(t.mean_return, -6.0) << t.task;
   EXPECT_GT(learned.mean_return, blind_bound + 25.0);
   fs::remove_all(dir);
+}
+
+TEST(LearningTest, MtSacSolvesThreeGoalsThatNeedTheTaskId) { ExpectSolvesThreeGoals("mlp"); }
+
+TEST(LearningTest, MultiHeadSacSolvesThreeGoalsThatNeedTheTaskId) {
+  ExpectSolvesThreeGoals("multihead");
 }
 
 }  // namespace
