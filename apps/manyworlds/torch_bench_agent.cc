@@ -30,6 +30,8 @@ struct BenchAgentArgs {
   bool disentangled_alpha = false;
   int updates = 20;
   int repeats = 5;
+  int shards = 1;
+  int update_threads = 0;  // 0: one per shard, at most one per core
   int torch_threads = 0;  // 0: the learner's default (nn::ConfigureTorchThreads)
   int blas_threads = 0;   // 0: the BLAS default (OPENBLAS_NUM_THREADS or one per core)
   uint64_t seed = 0;
@@ -55,6 +57,8 @@ void RunBenchAgent(const BenchAgentArgs& args) {
   config.pcgrad = args.pcgrad;
   config.disentangled_alpha = args.disentangled_alpha;
   config.seed = args.seed;
+  config.update_shards = args.shards;
+  config.update_threads = args.update_threads;
   try {
     config.Validate();
   } catch (const ConfigError& e) {
@@ -88,6 +92,8 @@ void RunBenchAgent(const BenchAgentArgs& args) {
                {"updates_per_s", r.updates_per_s},
                {"ms_per_update", 1000.0 / r.updates_per_s},
                {"samples", r.samples},
+               {"update_shards", args.shards},
+               {"update_threads", r.update_threads},
                {"threads",
                 {{"torch_intra_op", threads.torch_intra_op},
                  {"torch_inter_op", threads.torch_inter_op},
@@ -101,7 +107,8 @@ void RunBenchAgent(const BenchAgentArgs& args) {
             << " ms/update (median of " << r.samples.size() << " repeats of " << args.updates
             << " updates)\nbatch " << args.batch << ", " << args.layers << " x " << args.hidden
             << ", obs " << args.obs_dim << ", action " << args.action_dim
-            << "\nthreads: torch intra-op " << threads.torch_intra_op << ", inter-op "
+            << "\nshards: " << args.shards << " on " << r.update_threads << " thread"
+            << (r.update_threads == 1 ? "" : "s") << "; torch intra-op " << threads.torch_intra_op << ", inter-op "
             << threads.torch_inter_op << "; BLAS "
             << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
             << " (" << threads.blas << ")\nsamples:";
@@ -147,6 +154,14 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
   cmd->add_option("--repeats", args->repeats, "timed repeats (the median is reported)")
       ->capture_default_str()
       ->check(AtLeastOne());
+  cmd->add_option("--shards", args->shards,
+                  "data-parallel shards of each update (SacConfig update_shards)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--update-threads", args->update_threads,
+                  "threads running the shards (0: one per shard, at most one per core)")
+      ->capture_default_str()
+      ->check(Unsigned());
   cmd->add_option("--torch-threads", args->torch_threads,
                   "libtorch intra-op threads (default: 1, as every learner sets)")
       ->check(AtLeastOne());

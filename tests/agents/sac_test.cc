@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <memory>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -246,6 +249,56 @@ TEST(SacLearnerTest, SaveLoadResumesIdentically) {
   for (const auto& [name, value] : ma.items()) EXPECT_DOUBLE_EQ(value, mb.Get(name)) << name;
   EXPECT_TRUE(torch::equal(a.actor()->trunk()->flat(), b.actor()->trunk()->flat()));
   EXPECT_TRUE(torch::equal(a.critic()->target()->flat(), b.critic()->target()->flat()));
+}
+
+TEST(SacLearnerTest, ShardedUpdatesDependOnShardsNotThreads) {
+  // The same update with 3 shards on 1, 2 and 3 threads: bitwise equal.
+  auto run = [](int64_t shards, int64_t threads, const std::string& architecture) {
+    SacConfig c = Tiny();
+    c.architecture = architecture;
+    c.disentangled_alpha = true;
+    c.update_shards = shards;
+    c.update_threads = threads;
+    auto sac = std::make_unique<SacLearner>(c, 5, 2, 3);
+    std::vector<Metrics> metrics;
+    for (int i = 0; i < 4; ++i) metrics.push_back(sac->Update(RandomBatch(31, 5, 2, 3, i)));
+    return std::make_pair(std::move(sac), metrics);
+  };
+  for (const std::string& arch : SacArchitectures()) {
+    SCOPED_TRACE(arch);
+    auto [one, m1] = run(3, 1, arch);
+    EXPECT_EQ(one->update_threads(), 1);
+    for (int64_t threads : {2, 3}) {
+      auto [many, mm] = run(3, threads, arch);
+      EXPECT_EQ(many->update_threads(), threads);
+      EXPECT_TRUE(torch::equal(one->actor()->trunk()->flat(), many->actor()->trunk()->flat()));
+      EXPECT_TRUE(
+          torch::equal(one->critic()->online()->flat(), many->critic()->online()->flat()));
+      EXPECT_TRUE(torch::equal(one->Alpha(), many->Alpha()));
+      for (size_t i = 0; i < m1.size(); ++i) {
+        for (const auto& [name, value] : m1[i].items()) {
+          EXPECT_EQ(value, mm[i].Get(name)) << name;
+        }
+      }
+    }
+    // Unsharded: the same sums in another order, so close but not bitwise.
+    auto [whole, mw] = run(1, 1, arch);
+    EXPECT_EQ(whole->update_threads(), 1);
+    EXPECT_TRUE(torch::allclose(one->critic()->online()->flat(),
+                                whole->critic()->online()->flat(), 1e-4, 1e-5));
+    EXPECT_TRUE(torch::allclose(one->actor()->trunk()->flat(), whole->actor()->trunk()->flat(),
+                                1e-4, 1e-5));
+    EXPECT_NEAR(m1[0].Get("critic_loss"), mw[0].Get("critic_loss"),
+                1e-5 * std::abs(mw[0].Get("critic_loss")));
+    EXPECT_NEAR(m1[0].Get("actor_loss"), mw[0].Get("actor_loss"),
+                1e-5 * (1.0 + std::abs(mw[0].Get("actor_loss"))));
+  }
+  SacConfig bad = Tiny();
+  bad.update_shards = 0;
+  EXPECT_THROW(bad.Validate(), ConfigError);
+  bad = Tiny();
+  bad.update_threads = -1;
+  EXPECT_THROW(bad.Validate(), ConfigError);
 }
 
 TEST(SacTimingTest, ReturnsAPositiveRate) {

@@ -1,7 +1,9 @@
 #include "manyworlds/agents/sac.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -76,6 +78,31 @@ void CheckTaskIndex(const torch::Tensor& task_index, int64_t b, int64_t n, const
   }
 }
 
+// Rows [lo, lo + n) of every field.
+Batch Rows(const Batch& batch, int64_t lo, int64_t n) {
+  Batch part;
+  part.obs = batch.obs.narrow(0, lo, n);
+  part.action = batch.action.narrow(0, lo, n);
+  part.reward = batch.reward.narrow(0, lo, n);
+  part.next_obs = batch.next_obs.narrow(0, lo, n);
+  part.done = batch.done.narrow(0, lo, n);
+  part.task_index = batch.task_index.narrow(0, lo, n);
+  return part;
+}
+
+// Rows of a per-sample (B) tensor; a shared (1) value as it is.
+torch::Tensor RowsOf(const torch::Tensor& t, int64_t lo, int64_t n, int64_t b) {
+  return t.size(0) == b ? t.narrow(0, lo, n) : t;
+}
+
+int PoolThreads(const SacConfig& config, int64_t shards) {
+  int64_t threads = config.update_threads;
+  if (threads == 0) {
+    threads = std::max<int64_t>(1, static_cast<int64_t>(std::thread::hardware_concurrency()));
+  }
+  return static_cast<int>(std::min(threads, shards));
+}
+
 }  // namespace
 
 torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& done,
@@ -105,7 +132,9 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
                       std::to_string(obs_dim) + ", " + std::to_string(action_dim) + ", " +
                       std::to_string(num_tasks));
   }
-  nn::ConfigureTorchThreads();
+  const int64_t shards = config.pcgrad ? 1 : config.update_shards;
+  const int threads = PoolThreads(config, shards);
+  nn::ConfigureTorchThreads(/*own_threads=*/threads > 1);
 
   // Encoders first (fixed order of draws from the generator: task encoder,
   // mixture encoder, actor, critics).
@@ -173,6 +202,61 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   critic_optimizer_ =
       nn::FlatAdam(critic_->online()->num_params(), Adam(config, config.critic_lr));
   alpha_optimizer_ = nn::FlatAdam(log_alpha_.numel(), Adam(config, config.alpha_lr));
+
+  for (int64_t s = 1; s < shards; ++s) {
+    ShardReplicas r;
+    r.actor = actor_->trunk()->MakeGradientReplica();
+    r.critic = critic_->online()->MakeGradientReplica();
+    if (task_encoder_) r.task_encoder = task_encoder_->MakeGradientReplica();
+    if (encoder_) r.encoder = encoder_->MakeGradientReplica();
+    replicas_.push_back(std::move(r));
+  }
+  pool_ = std::make_unique<nn::WorkerPool>(threads);
+}
+
+SacLearner::ShardParams SacLearner::ParamsOf(int shard) const {
+  if (shard == 0) {
+    ShardParams p;
+    p.actor = actor_->trunk()->params();
+    p.critic = critic_->online()->params();
+    if (task_encoder_) p.task_encoder = task_encoder_->params();
+    if (encoder_) p.encoder = encoder_->params();
+    return p;
+  }
+  const ShardReplicas& r = replicas_[static_cast<size_t>(shard - 1)];
+  return {r.actor.params, r.critic.params, r.task_encoder.params, r.encoder.params};
+}
+
+void SacLearner::ZeroShardGrads(int shard, bool critic_group) {
+  if (shard == 0) {
+    if (!critic_group) {
+      actor_->trunk()->ZeroGrad();
+      return;
+    }
+    for (const auto& [module, optimizer] : CriticGroup()) module->ZeroGrad();
+    return;
+  }
+  ShardReplicas& r = replicas_[static_cast<size_t>(shard - 1)];
+  if (!critic_group) {
+    r.actor.ZeroGrad();
+    return;
+  }
+  r.critic.ZeroGrad();
+  if (task_encoder_) r.task_encoder.ZeroGrad();
+  if (encoder_) r.encoder.ZeroGrad();
+}
+
+void SacLearner::ReduceShardGrads(int shards, bool critic_group) {
+  for (int s = 1; s < shards; ++s) {
+    const ShardReplicas& r = replicas_[static_cast<size_t>(s - 1)];
+    if (!critic_group) {
+      actor_->trunk()->flat_grad().add_(r.actor.flat_grad);
+      continue;
+    }
+    critic_->online()->flat_grad().add_(r.critic.flat_grad);
+    if (task_encoder_) task_encoder_->flat_grad().add_(r.task_encoder.flat_grad);
+    if (encoder_) encoder_->flat_grad().add_(r.encoder.flat_grad);
+  }
 }
 
 std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> SacLearner::CriticGroup() {
@@ -185,6 +269,12 @@ std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> SacLearner::CriticGroup()
 
 torch::Tensor SacLearner::NetworkInput(const torch::Tensor& obs, const torch::Tensor& task_index,
                                        bool target) const {
+  return NetworkInputWith(obs, task_index, target, ParamsOf(0));
+}
+
+torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& obs,
+                                           const torch::Tensor& task_index, bool target,
+                                           const ShardParams& params) const {
   switch (arch_) {
     case Arch::kMlp:
       if (num_tasks_ == 1) return obs;
@@ -193,17 +283,19 @@ torch::Tensor SacLearner::NetworkInput(const torch::Tensor& obs, const torch::Te
       return obs;
     case Arch::kTaskEncoder:
       return torch::cat(
-          {obs, task_encoder_->Encode(task_encoder_->params()).index_select(0, task_index)}, -1);
+          {obs, task_encoder_->Encode(params.task_encoder).index_select(0, task_index)}, -1);
     case Arch::kMoe: {
       // All task encodings (num_tasks, E) and mixture weights (num_tasks, K)
       // are tiny; rows are picked per sample. The selector reads the task
       // encoding detached (MTRL's should_detach_task_encoding).
-      const torch::Tensor z = task_encoder_->Encode(task_encoder_->params());
+      const torch::Tensor z = task_encoder_->Encode(params.task_encoder);
       const nn::MixtureEncoder& moe = target ? encoder_target_ : encoder_;
-      const std::vector<torch::Tensor>& params =
-          target ? moe->detached_params() : moe->params();
-      const torch::Tensor weights = moe->Weights(z.detach(), params).index_select(0, task_index);
-      return torch::cat({moe->Mix(obs, weights, params), z.index_select(0, task_index)}, -1);
+      const at::ArrayRef<torch::Tensor> weights_params =
+          target ? at::ArrayRef<torch::Tensor>(moe->detached_params()) : params.encoder;
+      const torch::Tensor weights =
+          moe->Weights(z.detach(), weights_params).index_select(0, task_index);
+      return torch::cat({moe->Mix(obs, weights, weights_params), z.index_select(0, task_index)},
+                        -1);
     }
   }
   throw Error("SacLearner: unknown architecture");
@@ -218,23 +310,27 @@ torch::Tensor SacLearner::SampleAlpha(const torch::Tensor& task_index) const {
   return config_.disentangled_alpha ? alpha.index_select(0, task_index) : alpha;
 }
 
-torch::Tensor SacLearner::CriticTargetWithAlpha(const Batch& batch, const torch::Tensor& alpha) {
+torch::Tensor SacLearner::CriticTargetWith(const Batch& batch, const torch::Tensor& alpha,
+                                           const torch::Tensor& eps) const {
   torch::NoGradGuard no_grad;
   const torch::Tensor heads = Heads(batch.task_index);
   const torch::Tensor actor_in = NetworkInput(batch.next_obs, batch.task_index);
   const torch::Tensor critic_in =
       arch_ == Arch::kMoe ? NetworkInput(batch.next_obs, batch.task_index, /*target=*/true)
                           : actor_in;
-  nn::PolicyOutput next = actor_->forward(actor_in, heads);
-  nn::SquashedSample sample = nn::SampleSquashedGaussian(next.mean, next.log_std, generator_);
-  torch::Tensor q = critic_->TargetQ(critic_in, sample.action, heads);  // (2, B)
+  const nn::PolicyOutput next =
+      actor_->Forward(actor_in, heads, actor_->trunk()->detached_params());
+  const nn::SquashedSample sample = nn::SquashedGaussianFromNoise(next.mean, next.log_std, eps);
+  const torch::Tensor q = critic_->TargetQ(critic_in, sample.action, heads);  // (2, B)
   return SoftTdTarget(batch.reward, batch.done, torch::minimum(q[0], q[1]), sample.log_prob,
                       alpha, config_.discount);
 }
 
 torch::Tensor SacLearner::CriticTarget(const Batch& batch) {
   ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_);
-  return CriticTargetWithAlpha(batch, SampleAlpha(batch.task_index));
+  const torch::Tensor eps =
+      torch::randn({batch.size(), action_dim_}, generator_, torch::kFloat32);
+  return CriticTargetWith(batch, SampleAlpha(batch.task_index), eps);
 }
 
 double SacLearner::PcGradBackward(const torch::Tensor& per_sample,
@@ -273,72 +369,124 @@ double SacLearner::PcGradBackward(const torch::Tensor& per_sample,
 Metrics SacLearner::Update(const Batch& batch) {
   ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_);
   Metrics metrics;
+  const int64_t b = batch.size();
+  const bool actor_step = num_updates_ % config_.actor_update_freq == 0;
+  // Every random draw of the update, for the whole batch, before the split.
+  const torch::Tensor next_eps = torch::randn({b, action_dim_}, generator_, torch::kFloat32);
+  const torch::Tensor actor_eps =
+      actor_step ? torch::randn({b, action_dim_}, generator_, torch::kFloat32) : torch::Tensor();
   const torch::Tensor alpha = SampleAlpha(batch.task_index);  // (B) or (1), no grad
-  const torch::Tensor heads = Heads(batch.task_index);
+  const int shards = static_cast<int>(std::min<int64_t>(1 + replicas_.size(), b));
+  // Shard s holds rows [lo, lo + n).
+  auto rows = [&](int s) {
+    const int64_t lo = s * b / shards;
+    return std::pair<int64_t, int64_t>(lo, (s + 1) * b / shards - lo);
+  };
 
-  // Critic (and the encoders it trains).
-  const torch::Tensor target = CriticTargetWithAlpha(batch, alpha);
-  const std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> group = CriticGroup();
-  const torch::Tensor critic_in = NetworkInput(batch.obs, batch.task_index);
-  const torch::Tensor q = critic_->forward(critic_in, batch.action, heads);  // (2, B)
-  // Mean over both critics times 2 = MSE(Q1, y) + MSE(Q2, y).
-  const torch::Tensor critic_loss = 2.0 * (q - target).square().mean();
-  const double critic_loss_value = critic_loss.item<double>();
+  // Critic (and the encoders it trains). Each shard's loss is its sum over
+  // rows divided by B, so the shards add up to MSE(Q1, y) + MSE(Q2, y).
+  std::vector<double> critic_loss_part(shards), q_sum_part(shards);
+  torch::Tensor critic_per_sample;  // PCGrad (one shard): (B)
+  pool_->Run(shards, [&](int s) {
+    const auto [lo, n] = rows(s);
+    const Batch part = Rows(batch, lo, n);
+    const ShardParams params = ParamsOf(s);
+    const torch::Tensor y =
+        CriticTargetWith(part, RowsOf(alpha, lo, n, b), next_eps.narrow(0, lo, n));
+    const torch::Tensor x = NetworkInputWith(part.obs, part.task_index, false, params);
+    const torch::Tensor q =
+        critic_->Q(x, part.action, Heads(part.task_index), params.critic);  // (2, n)
+    const torch::Tensor squared = (q - y).square();
+    const torch::Tensor loss = squared.sum() / static_cast<double>(b);
+    critic_loss_part[s] = loss.item<double>();
+    q_sum_part[s] = q.detach().sum().item<double>();
+    if (config_.pcgrad) {
+      critic_per_sample = squared.sum(0);
+      return;
+    }
+    ZeroShardGrads(s, /*critic_group=*/true);
+    loss.backward();
+  });
+  double critic_loss_value = 0.0, q_sum = 0.0;
+  for (int s = 0; s < shards; ++s) {
+    critic_loss_value += critic_loss_part[s];
+    q_sum += q_sum_part[s];
+  }
   if (config_.max_critic_loss > 0.0 && !(critic_loss_value <= config_.max_critic_loss)) {
     throw Error("SAC critic loss " + std::to_string(critic_loss_value) + " exceeds " +
                 "max_critic_loss " + std::to_string(config_.max_critic_loss) +
                 " at update " + std::to_string(num_updates_) + " (diverged)");
   }
+  const std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> group = CriticGroup();
   if (config_.pcgrad) {
     std::vector<nn::FlatModule*> modules;
     for (const auto& [module, optimizer] : group) modules.push_back(module);
-    const torch::Tensor per_sample = (q - target).square().sum(0);  // (B)
-    metrics.Set("pcgrad_conflicts", PcGradBackward(per_sample, batch.task_index, modules));
+    metrics.Set("pcgrad_conflicts", PcGradBackward(critic_per_sample, batch.task_index, modules));
   } else {
-    for (const auto& [module, optimizer] : group) module->ZeroGrad();
-    critic_loss.backward();
+    ReduceShardGrads(shards, /*critic_group=*/true);
   }
   for (const auto& [module, optimizer] : group) {
     optimizer->Step(module->flat(), module->flat_grad());
   }
   metrics.Set("critic_loss", critic_loss_value);
-  metrics.Set("q_mean", q.detach().mean().item<double>());
+  metrics.Set("q_mean", q_sum / (2.0 * static_cast<double>(b)));
 
   // Actor and temperature, against the critics (and encoders) just updated.
-  if (num_updates_ % config_.actor_update_freq == 0) {
+  if (actor_step) {
+    std::vector<double> actor_loss_part(shards);
+    std::vector<torch::Tensor> log_prob_part(shards);
+    torch::Tensor actor_per_sample;  // PCGrad (one shard): (B)
+    pool_->Run(shards, [&](int s) {
+      const auto [lo, n] = rows(s);
+      const torch::Tensor obs = batch.obs.narrow(0, lo, n);
+      const torch::Tensor task = batch.task_index.narrow(0, lo, n);
+      const torch::Tensor heads = Heads(task);
+      const ShardParams params = ParamsOf(s);
+      torch::Tensor x;
+      {
+        torch::NoGradGuard no_grad;  // the actor sees encodings detached
+        x = NetworkInputWith(obs, task, false, params);
+      }
+      const nn::PolicyOutput out = actor_->Forward(x, heads, params.actor);
+      const nn::SquashedSample pi =
+          nn::SquashedGaussianFromNoise(out.mean, out.log_std, actor_eps.narrow(0, lo, n));
+      // Detached critic weights: the backward reaches the action only.
+      const torch::Tensor q_pi =
+          critic_->Q(x, pi.action, heads, critic_->online()->detached_params());
+      const torch::Tensor per_sample =
+          RowsOf(alpha, lo, n, b) * pi.log_prob - torch::minimum(q_pi[0], q_pi[1]);
+      const torch::Tensor loss = per_sample.sum() / static_cast<double>(b);
+      actor_loss_part[s] = loss.item<double>();
+      log_prob_part[s] = pi.log_prob.detach();
+      if (config_.pcgrad) {
+        actor_per_sample = per_sample;
+        return;
+      }
+      ZeroShardGrads(s, /*critic_group=*/false);
+      loss.backward();
+    });
     nn::MlpImpl& trunk = *actor_->trunk();
-    torch::Tensor x;
-    {
-      torch::NoGradGuard no_grad;  // the actor sees encodings detached
-      x = NetworkInput(batch.obs, batch.task_index);
-    }
-    const nn::PolicyOutput out = actor_->forward(x, heads);
-    const nn::SquashedSample pi = nn::SampleSquashedGaussian(out.mean, out.log_std, generator_);
-    const torch::Tensor q_pi =
-        critic_->Q(x, pi.action, heads, critic_->online()->detached_params());
-    const torch::Tensor per_sample = alpha * pi.log_prob - torch::minimum(q_pi[0], q_pi[1]);
-    const torch::Tensor actor_loss = per_sample.mean();
     if (config_.pcgrad) {
       metrics.Set("pcgrad_actor_conflicts",
-                  PcGradBackward(per_sample, batch.task_index, {&trunk}));
+                  PcGradBackward(actor_per_sample, batch.task_index, {&trunk}));
     } else {
-      trunk.ZeroGrad();
-      actor_loss.backward();
+      ReduceShardGrads(shards, /*critic_group=*/false);
     }
     actor_optimizer_.Step(trunk.flat(), trunk.flat_grad());
+    double actor_loss_value = 0.0;
+    for (double part : actor_loss_part) actor_loss_value += part;
 
     // d/dlog_alpha of mean_b(alpha_b (-log_prob_b - target)) is alpha_b (...)
     // summed per temperature and divided by B.
-    const torch::Tensor log_prob = pi.log_prob.detach();
+    const torch::Tensor log_prob = shards == 1 ? log_prob_part[0] : torch::cat(log_prob_part);
     const torch::Tensor per_sample_alpha = alpha * (-log_prob - target_entropy_);  // (B)
-    const int64_t b = batch.size();
     torch::Tensor alpha_grad =
         config_.disentangled_alpha
             ? torch::zeros_like(log_alpha_).index_add_(0, batch.task_index, per_sample_alpha) / b
             : per_sample_alpha.mean().reshape({1});
     alpha_optimizer_.Step(log_alpha_, alpha_grad);
 
-    metrics.Set("actor_loss", actor_loss.item<double>());
+    metrics.Set("actor_loss", actor_loss_value);
     metrics.Set("alpha", alpha.mean().item<double>());
     metrics.Set("alpha_loss", per_sample_alpha.mean().item<double>());
     metrics.Set("entropy", -log_prob.mean().item<double>());

@@ -40,12 +40,21 @@
 // pcgrad_conflicts (fraction of ordered task pairs whose critic gradients
 // conflict, g_i . g_j < 0) and, on actor steps, pcgrad_actor_conflicts.
 //
+// Data-parallel updates (config.update_shards > 1): the batch is split into
+// contiguous shards; each shard computes its part of every loss and
+// backpropagates it into gradient buffers of its own (nn::GradientReplica),
+// the shards run at once on a worker pool with one-thread BLAS, and the
+// buffers are summed in shard order before each optimizer step. All action
+// noise is drawn for the whole batch before the split, so an update depends
+// on update_shards but not on the number of threads.
+//
 // The learner calls nn::ConfigureTorchThreads() (see nn/threads.h). Not
 // thread-safe.
 #ifndef MANYWORLDS_AGENTS_SAC_H_
 #define MANYWORLDS_AGENTS_SAC_H_
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -58,6 +67,7 @@
 #include "manyworlds/nn/gaussian_policy.h"
 #include "manyworlds/nn/task_encoder.h"
 #include "manyworlds/nn/twin_critic.h"
+#include "manyworlds/nn/worker_pool.h"
 
 namespace manyworlds::agents {
 
@@ -101,6 +111,10 @@ class SacLearner {
   // the encoders when grad mode is on. Exposed for tests.
   torch::Tensor NetworkInput(const torch::Tensor& obs, const torch::Tensor& task_index,
                              bool target = false) const;
+  // Shards an update is split into (config.update_shards, at most B) and
+  // the threads that run them.
+  int64_t update_shards() const { return config_.update_shards; }
+  int update_threads() const { return pool_->num_threads(); }
   // Width of NetworkInput: obs_dim (+ num_tasks for "mlp" with several
   // tasks, + task_embedding_dim for "task_encoder"), encoder_dim +
   // task_embedding_dim for "moe".
@@ -139,9 +153,29 @@ class SacLearner {
   // architecture has, each with its optimizer. Built on demand (a moved
   // learner must not keep pointers into its old self).
   std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> CriticGroup();
+  // The parameter lists one shard computes with: shard 0 uses the modules'
+  // own parameters, shard s > 0 the replicas in replicas_[s - 1].
+  struct ShardParams {
+    at::ArrayRef<torch::Tensor> actor, critic, task_encoder, encoder;
+  };
+  struct ShardReplicas {
+    nn::GradientReplica actor, critic, task_encoder, encoder;
+  };
+  ShardParams ParamsOf(int shard) const;
+  // Zeroes the gradients shard `shard` accumulates into for the critic
+  // group (critic and encoders) or the actor.
+  void ZeroShardGrads(int shard, bool critic_group);
+  // Adds the replicas' gradients into the modules' flat gradients, in
+  // shard order.
+  void ReduceShardGrads(int shards, bool critic_group);
+  torch::Tensor NetworkInputWith(const torch::Tensor& obs, const torch::Tensor& task_index,
+                                 bool target, const ShardParams& params) const;
   // Per-sample temperatures (B), or (1) when shared.
   torch::Tensor SampleAlpha(const torch::Tensor& task_index) const;
-  torch::Tensor CriticTargetWithAlpha(const Batch& batch, const torch::Tensor& alpha);
+  // The critic target with the given temperatures and the noise eps (B, A)
+  // for the next actions.
+  torch::Tensor CriticTargetWith(const Batch& batch, const torch::Tensor& alpha,
+                                 const torch::Tensor& eps) const;
   // The task index for multi-head outputs, undefined otherwise.
   torch::Tensor Heads(const torch::Tensor& task_index) const;
   // Per-task gradients of `per_sample` (B) over the modules' flat buffers,
@@ -170,6 +204,8 @@ class SacLearner {
   nn::FlatAdam task_encoder_optimizer_;
   nn::FlatAdam encoder_optimizer_;
   int64_t num_updates_ = 0;
+  std::vector<ShardReplicas> replicas_;  // one per shard after the first
+  std::unique_ptr<nn::WorkerPool> pool_;
 };
 
 }  // namespace manyworlds::agents

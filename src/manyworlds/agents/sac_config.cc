@@ -54,6 +54,10 @@ void SacConfig::Validate() const {
   Require(task_embedding_dim > 0, "task_embedding_dim", "> 0", task_embedding_dim);
   Require(num_experts >= 1, "num_experts", ">= 1", num_experts);
   Require(encoder_dim > 0, "encoder_dim", "> 0", encoder_dim);
+  Require(update_shards >= 1 && update_shards <= 64, "update_shards", "in [1, 64]",
+          update_shards);
+  Require(update_threads >= 0 && update_threads <= 64, "update_threads",
+          "in [0, 64] (0: one per shard, at most one per core)", update_threads);
 }
 
 const std::vector<std::string>& SacArchitectures() {

@@ -64,6 +64,16 @@ struct SacConfig {
   int64_t encoder_dim = 50;          // moe: output (and hidden) width of the experts
   bool pcgrad = false;
 
+  // Data-parallel updates: each update splits its batch into update_shards
+  // parts whose gradients are computed at once on update_threads threads
+  // (0: one per shard, at most one per core) and summed in shard order.
+  // Results depend on update_shards (the order of floating-point sums), not
+  // on update_threads or the machine. PCGrad updates run as one shard. On
+  // the 2-core development machine 2 shards were slower than one shard with
+  // 2 BLAS threads (docs/benchmarks.md), hence the default of 1.
+  int64_t update_shards = 1;
+  int64_t update_threads = 0;
+
   // Throws ConfigError naming the first bad field and its allowed range.
   void Validate() const;
 };

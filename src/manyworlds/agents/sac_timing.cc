@@ -33,6 +33,7 @@ SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int acti
   constexpr int kWarmup = 3;
   for (int i = 0; i < kWarmup; ++i) sac.Update(batches[i % kBatches]);
   SacTimingResult result;
+  result.update_threads = sac.update_threads();
   for (int r = 0; r < repeats; ++r) {
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < updates; ++i) sac.Update(batches[i % kBatches]);

@@ -11,6 +11,7 @@ namespace manyworlds::agents {
 struct SacTimingResult {
   double updates_per_s = 0.0;   // median of samples
   std::vector<double> samples;  // updates per second of each repeat, in run order
+  int update_threads = 1;       // threads the learner ran its update shards on
 };
 
 // Builds a SacLearner(config, obs_dim, action_dim, num_tasks), runs 3

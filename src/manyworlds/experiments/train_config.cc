@@ -47,6 +47,8 @@ void ReadAgent(ConfigReader r, agents::SacConfig& c) {
   r.Read("num_experts", c.num_experts);
   r.Read("encoder_dim", c.encoder_dim);
   r.Read("pcgrad", c.pcgrad);
+  r.Read("update_shards", c.update_shards);
+  r.Read("update_threads", c.update_threads);
   r.Finish();
 }
 
@@ -77,6 +79,8 @@ nlohmann::json AgentToJson(const agents::SacConfig& c) {
       {"num_experts", c.num_experts},
       {"encoder_dim", c.encoder_dim},
       {"pcgrad", c.pcgrad},
+      {"update_shards", c.update_shards},
+      {"update_threads", c.update_threads},
   };
   return j;
 }

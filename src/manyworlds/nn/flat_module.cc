@@ -5,6 +5,21 @@
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::nn {
+namespace {
+
+// Zeroes the flat gradient and points each parameter's .grad at its view of
+// it, re-attaching views that something (e.g. Module::zero_grad(true))
+// replaced or cleared. Backward then accumulates in place into flat_grad.
+void ZeroAndAttachGrads(const torch::Tensor& flat_grad, std::vector<torch::Tensor>& params,
+                        const std::vector<torch::Tensor>& grad_views) {
+  flat_grad.zero_();
+  for (size_t i = 0; i < params.size(); ++i) {
+    torch::Tensor& grad = params[i].mutable_grad();
+    if (!grad.defined() || !grad.is_same(grad_views[i])) grad = grad_views[i];
+  }
+}
+
+}  // namespace
 
 void FlatModule::InitFlat(std::vector<ParamSpec> specs) {
   if (flat_.defined()) throw Error("FlatModule::InitFlat called twice on " + name());
@@ -32,12 +47,23 @@ void FlatModule::InitFlat(std::vector<ParamSpec> specs) {
   ZeroGrad();
 }
 
-void FlatModule::ZeroGrad() {
-  flat_grad_.zero_();
-  for (size_t i = 0; i < params_.size(); ++i) {
-    torch::Tensor& grad = params_[i].mutable_grad();
-    if (!grad.defined() || !grad.is_same(grad_views_[i])) grad = grad_views_[i];
+void FlatModule::ZeroGrad() { ZeroAndAttachGrads(flat_grad_, params_, grad_views_); }
+
+void GradientReplica::ZeroGrad() { ZeroAndAttachGrads(flat_grad, params, grad_views_); }
+
+GradientReplica FlatModule::MakeGradientReplica() const {
+  GradientReplica replica;
+  replica.flat_grad = torch::zeros({num_params()}, torch::kFloat32);
+  int64_t offset = 0;
+  for (const ParamSpec& spec : specs_) {
+    const int64_t n = detached_params_[replica.params.size()].numel();
+    replica.params.push_back(
+        flat_.narrow(0, offset, n).view(spec.shape).detach().requires_grad_(true));
+    replica.grad_views_.push_back(replica.flat_grad.narrow(0, offset, n).view(spec.shape));
+    offset += n;
   }
+  replica.ZeroGrad();
+  return replica;
 }
 
 void FlatModule::CopyFrom(const FlatModule& other) {

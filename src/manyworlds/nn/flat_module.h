@@ -23,6 +23,21 @@
 
 namespace manyworlds::nn {
 
+// A second set of leaf tensors over a FlatModule's values whose gradients
+// accumulate into a buffer of their own: several threads can then
+// backpropagate through the same module at once (one replica each), and the
+// caller sums the buffers. Make it after the module is final; it views the
+// module's storage and must not outlive it.
+struct GradientReplica {
+  std::vector<torch::Tensor> params;  // layout order, require grad
+  torch::Tensor flat_grad;            // (num_params) float32
+  // Zeroes flat_grad and re-attaches the gradient views (as ZeroGrad).
+  void ZeroGrad();
+ private:
+  friend class FlatModule;
+  std::vector<torch::Tensor> grad_views_;
+};
+
 // One parameter of a flat layout.
 struct ParamSpec {
   std::string name;
@@ -47,6 +62,8 @@ class FlatModule : public torch::nn::Module {
   // Zeroes the flat gradient; re-attaches the gradient views if something
   // (e.g. Module::zero_grad(true)) replaced or cleared them.
   void ZeroGrad();
+  // A replica of params() with its own gradient buffer (see GradientReplica).
+  GradientReplica MakeGradientReplica() const;
   // Copies the values of a module with the same layout (e.g. target <- online).
   // Throws Error on a layout mismatch.
   void CopyFrom(const FlatModule& other);

@@ -27,7 +27,15 @@ torch::Tensor BoundLogStd(const torch::Tensor& raw, double log_std_min, double l
 
 SquashedSample SampleSquashedGaussian(const torch::Tensor& mean, const torch::Tensor& log_std,
                                       c10::optional<at::Generator> generator) {
-  torch::Tensor eps = torch::randn(mean.sizes(), generator, mean.options());
+  return SquashedGaussianFromNoise(mean, log_std,
+                                   torch::randn(mean.sizes(), generator, mean.options()));
+}
+
+SquashedSample SquashedGaussianFromNoise(const torch::Tensor& mean, const torch::Tensor& log_std,
+                                         const torch::Tensor& eps) {
+  if (!eps.sizes().equals(mean.sizes())) {
+    throw Error("SquashedGaussianFromNoise: eps must have the shape of mean");
+  }
   torch::Tensor u = mean + eps * log_std.exp();
   // log N(u) written with eps directly: (u - mean) / std is exactly eps.
   const double half_log_2pi = 0.5 * std::log(2.0 * std::numbers::pi);

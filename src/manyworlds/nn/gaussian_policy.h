@@ -42,6 +42,10 @@ struct SquashedSample {
 // log_std) with its log-probability.
 SquashedSample SampleSquashedGaussian(const torch::Tensor& mean, const torch::Tensor& log_std,
                                       c10::optional<at::Generator> generator = c10::nullopt);
+// The same with the standard normal noise eps (shape of mean) given, e.g.
+// drawn for a whole batch before it is split across threads.
+SquashedSample SquashedGaussianFromNoise(const torch::Tensor& mean, const torch::Tensor& log_std,
+                                         const torch::Tensor& eps);
 
 struct GaussianPolicyOptions {
   int64_t obs_dim = 0;

@@ -23,9 +23,12 @@ Fn FindBlasFunction(const char* name) {
 
 }  // namespace
 
-void ConfigureTorchThreads() {
+void ConfigureTorchThreads(bool own_threads) {
   if (explicitly_set.load()) return;
   if (torch::get_num_threads() != 1) torch::set_num_threads(1);
+  if (own_threads) {
+    if (auto set = FindBlasFunction<void (*)(int)>("openblas_set_num_threads")) set(1);
+  }
 }
 
 void SetThreads(int torch_threads, int blas_threads) {
@@ -59,6 +62,8 @@ ThreadInfo CurrentThreads() {
   }
   auto config = FindBlasFunction<char* (*)()>("openblas_get_config");
   info.blas = config != nullptr ? std::string(config()) : "unknown";
+  auto core = FindBlasFunction<char* (*)()>("openblas_get_corename");
+  info.blas_core = core != nullptr ? std::string(core()) : "unknown";
   return info;
 }
 

@@ -22,8 +22,14 @@
 //                                        thread at run time; not explained)
 //   torch 2, BLAS 2                      refused by SetThreads (84 ms in
 //                                        performance.md §5.2)
-// The default (ConfigureTorchThreads) is therefore torch 1 with BLAS left at
-// its own default (one thread per core).
+// Splitting every small product across cores is the weak point: one thread
+// already runs the update at ~85 GFLOP/s (the sgemm rate of one core), two
+// BLAS threads reach only ~100. Data-parallel updates (SacConfig
+// update_shards, nn/worker_pool.h) instead run half the batch on each core
+// with one-thread BLAS; see docs/benchmarks.md for the figures.
+// The default (ConfigureTorchThreads) is therefore torch 1, with BLAS at one
+// thread when the caller runs its own threads and left at its own default
+// (one thread per core) otherwise.
 #ifndef MANYWORLDS_NN_THREADS_H_
 #define MANYWORLDS_NN_THREADS_H_
 
@@ -33,9 +39,10 @@ namespace manyworlds::nn {
 
 // The default: libtorch's intra-op pool to one thread, GEMM parallelism left
 // to the BLAS library's pool (OPENBLAS_NUM_THREADS, default one thread per
-// core). Does nothing after SetThreads (an explicit choice wins). Idempotent
-// and cheap; every learner calls it.
-void ConfigureTorchThreads();
+// core), or, with own_threads (the caller parallelises across its own
+// threads), OpenBLAS set to one thread. Does nothing after SetThreads (an
+// explicit choice wins). Idempotent and cheap; every learner calls it.
+void ConfigureTorchThreads(bool own_threads = false);
 
 // An explicit configuration: torch intra-op threads and, when the BLAS is
 // OpenBLAS, its thread count (blas_threads 0 leaves the BLAS alone). Throws
@@ -48,6 +55,7 @@ struct ThreadInfo {
   int torch_inter_op = 0;
   int blas_threads = -1;  // -1 when the BLAS library cannot say
   std::string blas;       // openblas_get_config(), or "unknown"
+  std::string blas_core;  // openblas_get_corename() (the kernels in use), or "unknown"
 };
 ThreadInfo CurrentThreads();
 

@@ -1,0 +1,60 @@
+// Makes OpenBLAS run the kernels of this CPU.
+//
+// Debian 12's OpenBLAS (0.3.21, DYNAMIC_ARCH) chooses its kernels once, when
+// it loads, from the CPU model; models newer than it knows (e.g. Intel
+// family 6 model 207, Emerald Rapids) get its generic SSE3 "Prescott"
+// kernels, which ran SAC updates 3.6x slower than its AVX-512 kernels on
+// such a machine (docs/benchmarks.md). OpenBLAS honours OPENBLAS_CORETYPE,
+// but reads it only while it loads, before any code of ours runs. So this
+// constructor, which runs after every shared library's initialiser, looks at
+// the kernels OpenBLAS chose and, when they are a generic fallback on a CPU
+// with AVX2 or AVX-512 and the user has not set OPENBLAS_CORETYPE, executes
+// the program again with OPENBLAS_CORETYPE set from the CPU's instruction
+// sets. Elsewhere it does nothing. The nn layer adds this file to every
+// executable built in this project that links it.
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+
+namespace {
+
+const char* CoreTypeForThisCpu() {
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512dq")) {
+    return "OPENBLAS_CORETYPE=SkylakeX";
+  }
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) {
+    return "OPENBLAS_CORETYPE=Haswell";
+  }
+  return nullptr;
+}
+
+bool IsGenericCore(const char* core) {
+  for (const char* generic : {"Prescott", "Core2", "Penryn", "Dunnington", "Nehalem", "Atom",
+                              "Unknown"}) {
+    if (std::strcmp(core, generic) == 0) return true;
+  }
+  return false;
+}
+
+__attribute__((constructor)) void RunOnTheKernelsOfThisCpu(int, char** argv, char** envp) {
+  if (argv == nullptr || envp == nullptr || std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
+  auto corename = reinterpret_cast<char* (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  if (corename == nullptr || !IsGenericCore(corename())) return;
+  const char* setting = CoreTypeForThisCpu();
+  if (setting == nullptr) return;
+  int n = 0;
+  while (envp[n] != nullptr) ++n;
+  char** env = static_cast<char**>(std::malloc(sizeof(char*) * static_cast<size_t>(n + 2)));
+  if (env == nullptr) return;
+  std::memcpy(env, envp, sizeof(char*) * static_cast<size_t>(n));
+  env[n] = const_cast<char*>(setting);
+  env[n + 1] = nullptr;
+  execve("/proc/self/exe", argv, env);
+  std::free(env);  // exec failed (no /proc): carry on with the kernels we have
+}
+
+}  // namespace
