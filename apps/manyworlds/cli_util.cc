@@ -76,13 +76,22 @@ std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64
   return std::make_unique<RandomPolicy>(env.spec().action_space, seed);
 }
 
-RolloutSummary SeededRollout(Env& env, std::string_view policy, uint64_t seed, uint64_t task_seed,
-                             int episodes) {
-  env.Seed(seed);
+std::unique_ptr<Policy> SeedEpisode(Env& env, std::string_view policy, uint64_t seed,
+                                    uint64_t task_seed, int episode) {
+  const uint64_t index = static_cast<uint64_t>(episode);
+  env.Seed(MixSeed(seed, index));
   env.SeedTask(task_seed);
-  env.ResetTaskState();
-  auto p = MakePolicy(policy, env, MixSeed(seed, kPolicySeedStream));
-  return Rollout(env, *p, episodes);
+  return MakePolicy(policy, env, MixSeed(MixSeed(seed, kPolicySeedStream), index));
+}
+
+RolloutSummary SeededRollout(Env& env, std::string_view policy, uint64_t seed, uint64_t task_seed,
+                             int episodes, int threads, const EnvMaker& make_env) {
+  const std::string name(policy);
+  return Summarize(RunEpisodes(env, make_env, episodes, threads, [&](Env& e, int i) {
+    std::unique_ptr<Policy> p = SeedEpisode(e, name, seed, task_seed, i);
+    e.ResetTaskState();
+    return p;
+  }));
 }
 
 std::string Fixed(double value, int digits) {

@@ -35,12 +35,21 @@ const std::vector<std::string>& PolicyNames();
 void CheckPolicyName(std::string_view name);
 std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed);
 
-// The CLI's seeding protocol: env.Seed(seed), env.SeedTask(task_seed), one
-// ResetTaskState, then `episodes` episodes with the named policy seeded from
-// MixSeed(seed, kPolicySeedStream). Same arguments, same summary.
+// The CLI's seeding protocol. Every episode is seeded from its index alone,
+// so that episodes can run on any number of threads with the same results:
+// episode i runs with env seed MixSeed(seed, i), task seed task_seed, and
+// the named policy seeded from MixSeed(MixSeed(seed, kPolicySeedStream), i).
+// SeedEpisode does that to `env` and returns the policy; the caller then
+// sets the task (ResetTaskState, or a given task state).
 inline constexpr uint64_t kPolicySeedStream = 0x706f6c696379;  // "policy"
+std::unique_ptr<Policy> SeedEpisode(Env& env, std::string_view policy, uint64_t seed,
+                                    uint64_t task_seed, int episode);
+// `episodes` episodes of the task sampled from task_seed (one
+// ResetTaskState per episode, the same task each time), on `threads`
+// threads; threads > 1 needs make_env for the other threads' envs. Same
+// arguments, same summary, whatever the thread count.
 RolloutSummary SeededRollout(Env& env, std::string_view policy, uint64_t seed, uint64_t task_seed,
-                             int episodes);
+                             int episodes, int threads = 1, const EnvMaker& make_env = {});
 
 // "12.35" with `digits` decimals.
 std::string Fixed(double value, int digits);

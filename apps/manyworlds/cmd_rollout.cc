@@ -1,6 +1,9 @@
 // manyworlds rollout --env ID: seeded episodes with a policy, per-episode
 // table and summary (or RolloutSummary::ToJson with --json).
+#include <algorithm>
 #include <iostream>
+#include <memory>
+#include <vector>
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
@@ -16,17 +19,37 @@ struct RolloutArgs {
   uint64_t seed = 0;
   uint64_t task_seed = 0;
   std::vector<std::string> options;
+  int threads = 1;
   bool json = false;
 };
 
 // Benchmarks: --episodes variations of every task, in order, and a table of
-// per-task success.
-void RunGroupRollout(Env& env, const std::vector<TaskGroup>& groups, const RolloutArgs& args) {
-  env.Seed(args.seed);
-  env.SeedTask(args.task_seed);
-  auto policy = MakePolicy(args.policy, env, MixSeed(args.seed, kPolicySeedStream));
-  const std::vector<GroupRollout> results =
-      RolloutTaskGroups(env, *policy, groups, args.episodes);
+// per-task success. Episode i of the flattened (task, variation) list is
+// seeded as SeedEpisode says.
+void RunGroupRollout(Env& env, const EnvMaker& make_env, const std::vector<TaskGroup>& groups,
+                     const RolloutArgs& args) {
+  std::vector<const TaskState*> states;
+  std::vector<size_t> group_sizes;
+  for (const TaskGroup& group : groups) {
+    const size_t n = std::min(group.states.size(), static_cast<size_t>(args.episodes));
+    for (size_t v = 0; v < n; ++v) states.push_back(&group.states[v]);
+    group_sizes.push_back(n);
+  }
+  std::vector<EpisodeStats> stats =
+      RunEpisodes(env, make_env, static_cast<int>(states.size()), args.threads,
+                  [&](Env& e, int i) {
+                    std::unique_ptr<Policy> policy =
+                        SeedEpisode(e, args.policy, args.seed, args.task_seed, i);
+                    e.SetTaskState(*states[static_cast<size_t>(i)]);
+                    return policy;
+                  });
+  std::vector<GroupRollout> results;
+  auto next = stats.begin();
+  for (size_t g = 0; g < groups.size(); ++g) {
+    std::vector<EpisodeStats> episodes(next, next + static_cast<std::ptrdiff_t>(group_sizes[g]));
+    next += static_cast<std::ptrdiff_t>(group_sizes[g]);
+    results.push_back({groups[g].name, Summarize(std::move(episodes))});
+  }
   if (args.json) {
     PrintJson(GroupsToJson(results));
     return;
@@ -44,13 +67,15 @@ void RunGroupRollout(Env& env, const std::vector<TaskGroup>& groups, const Rollo
 
 void RunRollout(const RolloutArgs& args) {
   CheckPolicyName(args.policy);
-  auto env = Make(args.env, ParseEnvOptions(args.options));
+  const nlohmann::json options = ParseEnvOptions(args.options);
+  auto env = Make(args.env, options);
+  const EnvMaker make_env = [&] { return Make(args.env, options); };
   if (const auto groups = env->EvaluationTasks(); !groups.empty()) {
-    RunGroupRollout(*env, groups, args);
+    RunGroupRollout(*env, make_env, groups, args);
     return;
   }
-  const RolloutSummary summary =
-      SeededRollout(*env, args.policy, args.seed, args.task_seed, args.episodes);
+  const RolloutSummary summary = SeededRollout(*env, args.policy, args.seed, args.task_seed,
+                                               args.episodes, args.threads, make_env);
   if (args.json) {
     PrintJson(summary.ToJson());
     return;
@@ -85,6 +110,11 @@ void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
       ->capture_default_str()
       ->check(Unsigned());
   cmd->add_option("--option", args->options, "env option key=value (repeatable)");
+  cmd->add_option("--threads", args->threads,
+                  "threads running episodes at once (each with its own env copy); the results "
+                  "do not depend on it")
+      ->capture_default_str()
+      ->check(AtLeastOne());
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { RunRollout(*args); });
 }

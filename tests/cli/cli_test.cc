@@ -142,6 +142,25 @@ TEST(CliTest, RolloutJsonIsByteIdenticalAcrossRuns) {
   EXPECT_NE(RunCli("rollout --env point-nav --episodes 3 --seed 6 --json").out, a.out);
 }
 
+TEST(CliTest, RolloutJsonIsByteIdenticalAcrossThreadCounts) {
+  // Every episode is seeded from its index, so threads only change who runs it.
+  for (const std::string env : {"acrobot --episodes 5", "point-nav --episodes 7",
+                                "mt10 --policy random --episodes 1"}) {
+    const std::string args = "rollout --env " + env + " --seed 3 --task-seed 4 --json";
+    const RunResult one = RunCli(args + " --threads 1");
+    ASSERT_EQ(one.exit_code, 0) << one.err;
+    for (const char* threads : {" --threads 2", " --threads 3"}) {
+      const RunResult many = RunCli(args + threads);
+      ASSERT_EQ(many.exit_code, 0) << many.err;
+      EXPECT_EQ(one.out, many.out) << env << threads;
+    }
+  }
+  // Episodes differ from one another (each has its own env seed).
+  const auto j = nlohmann::json::parse(RunCli("rollout --env point-nav --episodes 2 --json").out);
+  EXPECT_NE(j["episodes"][0], j["episodes"][1]);
+  EXPECT_NE(RunCli("rollout --env cartpole --threads 0").exit_code, 0);
+}
+
 // The contract holds for every registered env, benchmarks included.
 TEST(CliTest, CheckEnvPassesOnEveryRegisteredEnv) {
   const RunResult list = RunCli("envs --json");

@@ -1,7 +1,11 @@
 #include "manyworlds/core/policy.h"
 
 #include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
 #include <string>
+#include <thread>
 
 #include "manyworlds/core/error.h"
 
@@ -81,6 +85,61 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
     summary.success_rate = episodes > 0 ? static_cast<double>(successes) / episodes : 0.0;
   }
   return summary;
+}
+
+std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int num_episodes,
+                                      int num_threads, const EpisodeSetup& prepare,
+                                      int64_t max_steps_per_episode) {
+  if (num_episodes < 0 || num_threads < 1) {
+    throw ConfigError("RunEpisodes on env '" + env.id() +
+                      "': episodes must be >= 0 and threads >= 1, got " +
+                      std::to_string(num_episodes) + " and " + std::to_string(num_threads));
+  }
+  std::vector<EpisodeStats> stats(static_cast<size_t>(num_episodes));
+  std::atomic<int> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  int error_episode = num_episodes;
+  auto work = [&](Env& e) {
+    for (int i = next++; i < num_episodes; i = next++) {
+      try {
+        const std::unique_ptr<Policy> policy = prepare(e, i);
+        stats[static_cast<size_t>(i)] = Rollout(e, *policy, 1, max_steps_per_episode).episodes[0];
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        // Keep the error of the first failing episode, as one thread would.
+        if (i < error_episode) {
+          error_episode = i;
+          error = std::current_exception();
+        }
+        next = num_episodes;
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  const int extra = std::min(num_threads, std::max(num_episodes, 1)) - 1;
+  for (int t = 0; t < extra; ++t) {
+    threads.emplace_back([&] {
+      std::unique_ptr<Env> own;
+      try {
+        own = make_env();
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(error_mutex);
+        if (!error) error = std::current_exception();
+        next = num_episodes;
+        return;
+      }
+      work(*own);
+    });
+  }
+  work(env);
+  for (std::thread& t : threads) t.join();
+  if (error) std::rethrow_exception(error);
+  return stats;
+}
+
+RolloutSummary Summarize(std::vector<EpisodeStats> episodes) {
+  return MergeGroups({GroupRollout{"", RolloutSummary{std::move(episodes)}}});
 }
 
 std::vector<GroupRollout> RolloutTaskGroups(Env& env, Policy& policy,

@@ -3,6 +3,7 @@
 #define MANYWORLDS_CORE_POLICY_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -65,6 +66,24 @@ struct RolloutSummary {
 // `max_steps_per_episode` steps (counted as truncated).
 RolloutSummary Rollout(Env& env, Policy& policy, int episodes,
                        int64_t max_steps_per_episode = 100000);
+
+// Independent episodes, in parallel: episode i is set up by prepare(env, i)
+// (seeds, task state; it returns the episode's policy) and run once to its
+// end. The calling thread steps `env`; each of the other num_threads - 1
+// threads steps its own env from make_env (same id and options). Because
+// every episode is set up from its index alone, the stats (in episode order)
+// do not depend on num_threads. The first error of any episode is rethrown
+// after all threads stopped. Throws ConfigError on num_episodes < 0 or
+// num_threads < 1.
+using EnvMaker = std::function<std::unique_ptr<Env>()>;
+using EpisodeSetup = std::function<std::unique_ptr<Policy>(Env& env, int episode)>;
+std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int num_episodes,
+                                      int num_threads, const EpisodeSetup& prepare,
+                                      int64_t max_steps_per_episode = 100000);
+
+// Mean return, length and success rate of a list of episodes (success rate
+// negative when the env reports no success).
+RolloutSummary Summarize(std::vector<EpisodeStats> episodes);
 
 // Rollouts of one group of task states (e.g. one benchmark task).
 struct GroupRollout {

@@ -53,7 +53,14 @@ __attribute__((constructor)) void RunOnTheKernelsOfThisCpu(int, char** argv, cha
   std::memcpy(env, envp, sizeof(char*) * static_cast<size_t>(n));
   env[n] = const_cast<char*>(setting);
   env[n + 1] = nullptr;
-  execve("/proc/self/exe", argv, env);
+  // exec the binary by its own path, not /proc/self/exe, so that ps and
+  // pgrep still show the program's name
+  char path[4096];
+  const ssize_t length = readlink("/proc/self/exe", path, sizeof(path) - 1);
+  if (length > 0) {
+    path[length] = '\0';
+    execve(path, argv, env);
+  }
   std::free(env);  // exec failed (no /proc): carry on with the kernels we have
 }
 

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Runs every benchmark behind docs/benchmarks.md on this machine and writes
+# the complete output to docs/benchmarks_<date>.log (or the file given as $1).
+# Needs a Release build in build/ (scripts/test.sh or scripts/main.sh makes
+# one). Takes about 10 minutes on two cores; run it on an otherwise idle
+# machine, the figures are medians of repeats but the machine must be quiet.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+log=${1:-docs/benchmarks_$(date -u +%F).log}
+B=build/manyworlds
+{
+  echo "# $(date -u +%FT%TZ) $(git rev-parse --short HEAD)"
+  lscpu | grep -E '^(Model name|CPU\(s\)|Vendor ID|CPU family|Model):' || true
+  set -x
+  $B bench env --env cartpole --threads 1 --steps 2000000
+  for env in mt10 reach push pick-place; do
+    $B bench env --env $env --num-envs 16 --threads 1 --steps 20000
+    $B bench env --env $env --num-envs 16 --threads 2 --steps 20000
+  done
+  build/bench/bench_manipulation --benchmark_repetitions=5 \
+    --benchmark_report_aggregates_only=true --benchmark_min_time=0.3
+  # OpenBLAS kernels: the ones chosen for this CPU, and the generic ones
+  # Debian's OpenBLAS 0.3.21 falls back to on CPUs newer than it knows.
+  $B bench agent --tasks 1
+  OPENBLAS_CORETYPE=Prescott $B bench agent --tasks 1 --repeats 3
+  # Thread layouts for one update: BLAS threads, or data-parallel shards.
+  $B bench agent --tasks 1 --blas-threads 1
+  $B bench agent --tasks 1 --shards 2
+  for arch in mlp multihead task_encoder moe; do
+    $B bench agent --architecture $arch --tasks 10 --disentangled-alpha
+  done
+  $B bench agent --tasks 10 --disentangled-alpha --pcgrad
+  # The MT10 configs' batch: 32 per task.
+  $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10
+  $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10 --architecture multihead
+} 2>&1 | tee "$log"
