@@ -98,6 +98,7 @@ void RunBenchAgent(const BenchAgentArgs& args) {
                 {{"torch_intra_op", threads.torch_intra_op},
                  {"torch_inter_op", threads.torch_inter_op},
                  {"blas", threads.blas_threads},
+                 {"blas_core", threads.blas_core},
                  {"blas_library", threads.blas}}}});
     return;
   }
@@ -111,7 +112,7 @@ void RunBenchAgent(const BenchAgentArgs& args) {
             << (r.update_threads == 1 ? "" : "s") << "; torch intra-op " << threads.torch_intra_op << ", inter-op "
             << threads.torch_inter_op << "; BLAS "
             << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
-            << " (" << threads.blas << ")\nsamples:";
+            << " (" << threads.blas << "; kernels " << threads.blas_core << ")\nsamples:";
   for (double s : r.samples) std::cout << " " << Fixed(s, 1);
   std::cout << "\n";
 }
