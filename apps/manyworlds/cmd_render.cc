@@ -1,10 +1,9 @@
 // manyworlds render --env ID --out FILE: one frame (.png) or one episode
 // (.mp4) of a MuJoCo env, rendered offscreen (OSMesa) and encoded by ffmpeg.
 //
-// Seeding follows `rollout`: env.Seed(seed), env.SeedTask(task_seed), one
-// ResetTaskState, the policy seeded from MixSeed(seed, kPolicySeedStream);
-// the recorded episode is the first episode `rollout` runs with the same
-// arguments.
+// Seeding follows `rollout` (SeedEpisode for episode 0, then one
+// ResetTaskState): on a single task the recorded episode is the first
+// episode `rollout` runs with the same arguments.
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -89,11 +88,9 @@ void RunRender(const RenderArgs& args, const CommandContext& context) {
   }
 
   auto env = Make(args.env, ParseEnvOptions(args.options));
-  env->Seed(args.seed);
-  env->SeedTask(args.task_seed);
+  auto policy = SeedEpisode(*env, args.policy, args.seed, args.task_seed, /*episode=*/0);
   env->ResetTaskState();
   ActiveMujocoScene(*env);  // ConfigError for envs without a MuJoCo scene, before any work
-  auto policy = MakePolicy(args.policy, *env, MixSeed(args.seed, kPolicySeedStream));
 
   // steps to run: the whole episode (bounded like Rollout) unless given
   constexpr int64_t kUnlimitedCap = 100000;

@@ -187,6 +187,22 @@ TEST(CliTest, ScriptedRolloutOverABenchmarkReportsEveryTask) {
   EXPECT_GE(j["success_rate"].get<double>(), 0.8);
 }
 
+// render records the first episode rollout runs with the same seeds: the
+// random policy's actions, hence the return, are the same.
+TEST(CliTest, RenderRecordsTheFirstEpisodeOfRollout) {
+  const fs::path dir = ScratchDir();
+  const std::string seeds = " --env reach --policy random --seed 9 --task-seed 2";
+  const RunResult render =
+      RunCli("render" + seeds + " --steps 500 --width 32 --height 24 --out f.png", dir);
+  ASSERT_EQ(render.exit_code, 0) << render.err;
+  const RunResult rollout = RunCli("rollout" + seeds + " --episodes 1 --json");
+  ASSERT_EQ(rollout.exit_code, 0) << rollout.err;
+  const double expected = nlohmann::json::parse(rollout.out)["episodes"][0]["return"];
+  char formatted[64];
+  std::snprintf(formatted, sizeof(formatted), "return %.2f,", expected);
+  EXPECT_NE(render.out.find(formatted), std::string::npos) << render.out << " vs " << formatted;
+}
+
 TEST(CliTest, ExportXmlWritesALoadableModel) {
   const fs::path dir = ScratchDir();
   const RunResult r = RunCli("export-xml --env pick-place --task-seed 4 --out v.xml", dir);
