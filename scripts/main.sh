@@ -23,8 +23,8 @@ mkdir -p "$out_dir/videos"
 
 echo
 echo "== 1/3 Scripted policies on MT10 (10 variations per task) =="
-"$mw" rollout --env mt10 --policy scripted --episodes 10 | tee "$out_dir/mt10_scripted.txt"
-"$mw" rollout --env mt10 --policy scripted --episodes 10 --json > "$out_dir/mt10_scripted.json"
+"$mw" rollout --env mt10 --policy scripted --episodes 10 --threads "$(nproc)" | tee "$out_dir/mt10_scripted.txt"
+"$mw" rollout --env mt10 --policy scripted --episodes 10 --threads "$(nproc)" --json > "$out_dir/mt10_scripted.json"
 
 echo
 echo "== 2/3 Rendering one scripted episode of each MT10 task =="
