@@ -24,6 +24,28 @@ TEST(BlasKernelsTest, OpenBlasRunsTheKernelsOfThisCpu) {
   }
 }
 
+// The kernels selected at start-up compute correct products (against a
+// double-precision loop), on one BLAS thread and on several.
+TEST(BlasKernelsTest, SelectedKernelsMultiplyCorrectly) {
+  torch::manual_seed(3);
+  const torch::Tensor a = torch::randn({128, 43});
+  const torch::Tensor b = torch::randn({43, 400});
+  torch::Tensor expected = torch::zeros({128, 400}, torch::kFloat64);
+  auto x = a.accessor<float, 2>();
+  auto y = b.accessor<float, 2>();
+  auto z = expected.accessor<double, 2>();
+  for (int64_t i = 0; i < 128; ++i) {
+    for (int64_t k = 0; k < 43; ++k) {
+      for (int64_t j = 0; j < 400; ++j) z[i][j] += static_cast<double>(x[i][k]) * y[k][j];
+    }
+  }
+  for (int threads : {1, 2}) {
+    SetThreads(1, threads);
+    const torch::Tensor product = torch::mm(a, b).to(torch::kFloat64);
+    EXPECT_LT((product - expected).abs().max().item<double>(), 1e-4) << threads << " threads";
+  }
+}
+
 TEST(ThreadsTest, LearnerDefaultIsOneIntraOpThreadAndBlasOneWithOwnThreads) {
   ConfigureTorchThreads(/*own_threads=*/true);
   const ThreadInfo info = CurrentThreads();

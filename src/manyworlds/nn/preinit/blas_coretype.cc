@@ -3,15 +3,18 @@
 // Debian 12's OpenBLAS (0.3.21, DYNAMIC_ARCH) chooses its kernels once, when
 // it loads, from the CPU model; models newer than it knows (e.g. Intel
 // family 6 model 207, Emerald Rapids) get its generic SSE3 "Prescott"
-// kernels, which ran SAC updates 3.6x slower than its AVX-512 kernels on
-// such a machine (docs/benchmarks.md). OpenBLAS honours OPENBLAS_CORETYPE,
-// but reads it only while it loads, before any code of ours runs. So this
+// kernels, which ran SAC updates 3x slower than its AVX-512 kernels on such
+// a machine (docs/benchmarks.md). OpenBLAS honours OPENBLAS_CORETYPE, but
+// reads it only while it loads, before any code of ours runs. So this
 // constructor, which runs after every shared library's initialiser, looks at
 // the kernels OpenBLAS chose and, when they are a generic fallback on a CPU
-// with AVX2 or AVX-512 and the user has not set OPENBLAS_CORETYPE, executes
-// the program again with OPENBLAS_CORETYPE set from the CPU's instruction
-// sets. Elsewhere it does nothing. The nn layer adds this file to every
-// executable built in this project that links it.
+// with AVX2 or AVX-512 and the user has not set OPENBLAS_CORETYPE, selects
+// them again with OPENBLAS_CORETYPE set from the CPU's instruction sets:
+// through OpenBLAS's exported gotoblas_dynamic_quit/gotoblas_dynamic_init
+// (no BLAS call can be running this early), or, where those are missing,
+// by executing the program again with the variable set. Elsewhere it does
+// nothing. The nn layer adds this file to every executable built in this
+// project that links it.
 #include <dlfcn.h>
 #include <unistd.h>
 
@@ -40,12 +43,26 @@ bool IsGenericCore(const char* core) {
   return false;
 }
 
+bool Reselect(const char* setting) {
+  using Hook = void (*)();
+  auto quit = reinterpret_cast<Hook>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_quit"));
+  auto init = reinterpret_cast<Hook>(dlsym(RTLD_DEFAULT, "gotoblas_dynamic_init"));
+  if (quit == nullptr || init == nullptr) return false;
+  const char* value = std::strchr(setting, '=') + 1;
+  if (setenv("OPENBLAS_CORETYPE", value, /*overwrite=*/1) != 0) return false;
+  quit();
+  init();  // reads OPENBLAS_CORETYPE and runs the chosen kernels' set-up
+  unsetenv("OPENBLAS_CORETYPE");  // leave the user's environment as it was
+  return true;
+}
+
 __attribute__((constructor)) void RunOnTheKernelsOfThisCpu(int, char** argv, char** envp) {
   if (argv == nullptr || envp == nullptr || std::getenv("OPENBLAS_CORETYPE") != nullptr) return;
   auto corename = reinterpret_cast<char* (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_corename"));
   if (corename == nullptr || !IsGenericCore(corename())) return;
   const char* setting = CoreTypeForThisCpu();
   if (setting == nullptr) return;
+  if (Reselect(setting) && !IsGenericCore(corename())) return;
   int n = 0;
   while (envp[n] != nullptr) ++n;
   char** env = static_cast<char**>(std::malloc(sizeof(char*) * static_cast<size_t>(n + 2)));
