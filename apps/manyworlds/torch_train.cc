@@ -55,7 +55,8 @@ void PrintEvalTable(const EvalResult& eval, std::ostream& out) {
 }
 
 // One redrawn status line on stderr: on a terminal at most 10 times a
-// second, otherwise (with --progress) one line every 2 seconds.
+// second, otherwise (with --progress) one line every 2 seconds; notes
+// (resume, evaluations) always.
 class TrainStatus {
  public:
   explicit TrainStatus(bool force)
@@ -91,8 +92,9 @@ class TrainStatus {
     Write(line);
   }
 
+  // Resume and evaluation lines always appear: one line per evaluation is
+  // what a run in the background (nohup, a cluster job) should leave in its log.
   void Note(const std::string& text) {
-    if (!enabled_) return;
     Clear();
     std::cerr << text << "\n";
   }
