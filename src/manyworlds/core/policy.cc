@@ -100,19 +100,23 @@ std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int nu
   std::mutex error_mutex;
   std::exception_ptr error;
   int error_episode = num_episodes;
+  // Called inside a catch block: keeps the error of the first failing
+  // episode, as one thread would, and stops handing out episodes.
+  auto fail = [&](int episode) {
+    std::lock_guard<std::mutex> lock(error_mutex);
+    if (episode < error_episode) {
+      error_episode = episode;
+      error = std::current_exception();
+    }
+    next = num_episodes;
+  };
   auto work = [&](Env& e) {
     for (int i = next++; i < num_episodes; i = next++) {
       try {
         const std::unique_ptr<Policy> policy = prepare(e, i);
         stats[static_cast<size_t>(i)] = Rollout(e, *policy, 1, max_steps_per_episode).episodes[0];
       } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        // Keep the error of the first failing episode, as one thread would.
-        if (i < error_episode) {
-          error_episode = i;
-          error = std::current_exception();
-        }
-        next = num_episodes;
+        fail(i);
       }
     }
   };
@@ -124,9 +128,7 @@ std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int nu
       try {
         own = make_env();
       } catch (...) {
-        std::lock_guard<std::mutex> lock(error_mutex);
-        if (!error) error = std::current_exception();
-        next = num_episodes;
+        fail(num_episodes - 1);  // an env that cannot be made: reported unless an episode failed
         return;
       }
       work(*own);
