@@ -26,6 +26,9 @@ B=build/manyworlds
   # Thread layouts for one update: BLAS threads, or data-parallel shards.
   $B bench agent --tasks 1 --blas-threads 1
   $B bench agent --tasks 1 --shards 2
+  # The products an update is made of, alone: the ceiling for the above.
+  build/bench/bench_gemm --benchmark_repetitions=3 \
+    --benchmark_report_aggregates_only=true --benchmark_min_time=0.3
   for arch in mlp multihead task_encoder moe; do
     $B bench agent --architecture $arch --tasks 10 --disentangled-alpha
   done
