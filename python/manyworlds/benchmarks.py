@@ -1,0 +1,172 @@
+"""Meta-World-shaped benchmark objects over manyworlds' manipulation suite.
+
+For people moving a Meta-World script over: ``MT1``, ``MT10``, ``ML1`` and ``ML10`` have
+``train_classes`` and ``test_classes`` (dicts from task name to an env class that takes no
+required arguments) and ``train_tasks`` and ``test_tasks`` (lists of :class:`Task` with
+``env_name`` and ``data``), and the envs have ``set_task(task)``, so::
+
+    import manyworlds.benchmarks as metaworld   # instead of: import metaworld
+    import random
+
+    mt10 = metaworld.MT10()
+    training_envs = []
+    for name, env_cls in mt10.train_classes.items():
+        env = env_cls()
+        task = random.choice([t for t in mt10.train_tasks if t.env_name == name])
+        env.set_task(task)
+        training_envs.append(env)
+
+    for env in training_envs:
+        obs, info = env.reset()
+        obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+
+The envs are single manyworlds tasks whose observation is Meta-World's flat 39-value vector
+(goal zeroed in the ML benchmarks); the variations are the ones of manyworlds' own benchmark
+envs (``mt10``, ``ml10``, ``mt1``, ``ml1``) with ``benchmark_seed = seed``, 50 per task. Task
+names are manyworlds ids (``"pick-place"``); MT1/ML1 also accept Meta-World's versioned names
+(``"pick-place-v3"``) and then key their dicts by the name given.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from typing import Any, Dict, List, NamedTuple, Optional, Type
+
+from manyworlds import _core
+from manyworlds.env import ManyworldsEnv
+
+__all__ = ["Task", "Benchmark", "MT1", "MT10", "ML1", "ML10", "SawyerEnv", "MT10_TASKS", "ML10_TRAIN_TASKS", "ML10_TEST_TASKS"]
+
+
+class Task(NamedTuple):
+    """One task variation: the task name and its task state as JSON text."""
+
+    env_name: str
+    data: str
+
+    @property
+    def state(self) -> Dict[str, Any]:
+        """The task state as a dict (``json.loads(data)``)."""
+        return json.loads(self.data)
+
+
+class SawyerEnv(ManyworldsEnv):
+    """One manipulation task with Meta-World's single-task interface.
+
+    Flat 39-value observations, ``set_task(task)``, ``max_path_length`` (500).
+    """
+
+    TASK_ID: str = ""
+    TASK_NAME: str = ""
+    GOAL_OBSERVABLE: bool = True
+
+    def __init__(self, render_mode: Optional[str] = None, **kwargs: Any) -> None:
+        kwargs.setdefault("flat_obs", True)
+        kwargs.setdefault("goal_observable", self.GOAL_OBSERVABLE)
+        super().__init__(self.TASK_ID, render_mode=render_mode, **kwargs)
+
+    def set_task(self, task: Task) -> None:
+        """Switches to a task variation from a benchmark's ``train_tasks``/``test_tasks``.
+
+        Raises ``ValueError`` if the task belongs to another env class.
+        """
+        if task.env_name != self.TASK_NAME:
+            raise ValueError(f"task of '{task.env_name}' given to an env of '{self.TASK_NAME}'")
+        self.set_task_state(json.loads(task.data))
+
+    @property
+    def max_path_length(self) -> int:
+        """Episode length (Meta-World's name for it)."""
+        return self.max_episode_steps
+
+
+def _env_class(task_id: str, name: str, goal_observable: bool) -> Type[SawyerEnv]:
+    class_name = "".join(part.capitalize() for part in re.split(r"[-_]", name)) + "Env"
+    return type(class_name, (SawyerEnv,), {"TASK_ID": task_id, "TASK_NAME": name, "GOAL_OBSERVABLE": goal_observable})
+
+
+def _task_id(name: str) -> str:
+    """A manyworlds task id from a manyworlds or a versioned Meta-World name."""
+    return re.sub(r"-v\d+$", "", name)
+
+
+class Benchmark:
+    """Base of the benchmarks: ``train_classes``, ``train_tasks``, ``test_classes``, ``test_tasks``."""
+
+    def __init__(self) -> None:
+        self.train_classes: Dict[str, Type[SawyerEnv]] = {}
+        self.test_classes: Dict[str, Type[SawyerEnv]] = {}
+        self.train_tasks: List[Task] = []
+        self.test_tasks: List[Task] = []
+
+    @staticmethod
+    def _variations(bench_id: str, options: Dict[str, Any], names: Dict[str, str], goal_observable: bool):
+        """(classes, tasks) of one split of a manyworlds benchmark env."""
+        env = _core.Env(bench_id, options)
+        classes: Dict[str, Type[SawyerEnv]] = {}
+        tasks: List[Task] = []
+        for task_id, states in env.evaluation_tasks():
+            name = names.get(task_id, task_id)
+            classes[name] = _env_class(task_id, name, goal_observable)
+            for state in states:
+                tasks.append(Task(name, json.dumps(state["params"]["state"])))
+        return classes, tasks
+
+    def __repr__(self) -> str:
+        return (
+            f"<{type(self).__name__}: {len(self.train_classes)} train classes, {len(self.train_tasks)} train tasks, "
+            f"{len(self.test_classes)} test classes, {len(self.test_tasks)} test tasks>"
+        )
+
+
+class MT1(Benchmark):
+    """One task, 50 train variations with the goal visible; no test set."""
+
+    def __init__(self, env_name: str, seed: Optional[int] = None) -> None:
+        super().__init__()
+        task_id = _task_id(env_name)
+        options = {"task": task_id, "benchmark_seed": int(seed or 0)}
+        self.train_classes, self.train_tasks = self._variations("mt1", options, {task_id: env_name}, True)
+
+
+class ML1(Benchmark):
+    """One task: 50 train and 50 test variations, goal hidden."""
+
+    def __init__(self, env_name: str, seed: Optional[int] = None) -> None:
+        super().__init__()
+        task_id = _task_id(env_name)
+        names = {task_id: env_name}
+        base = {"task": task_id, "benchmark_seed": int(seed or 0)}
+        self.train_classes, self.train_tasks = self._variations("ml1", {**base, "split": "train"}, names, False)
+        self.test_classes, self.test_tasks = self._variations("ml1", {**base, "split": "test"}, names, False)
+
+
+class MT10(Benchmark):
+    """The ten MT10 tasks, 50 variations each, goal visible; no test set."""
+
+    def __init__(self, seed: Optional[int] = None) -> None:
+        super().__init__()
+        options = {"benchmark_seed": int(seed or 0)}
+        self.train_classes, self.train_tasks = self._variations("mt10", options, {}, True)
+
+
+class ML10(Benchmark):
+    """Ten train tasks and five held-out test tasks, 50 variations each, goal hidden."""
+
+    def __init__(self, seed: Optional[int] = None) -> None:
+        super().__init__()
+        base = {"benchmark_seed": int(seed or 0)}
+        self.train_classes, self.train_tasks = self._variations("ml10", {**base, "split": "train"}, {}, False)
+        self.test_classes, self.test_tasks = self._variations("ml10", {**base, "split": "test"}, {}, False)
+
+
+MT10_TASKS = [
+    "reach", "push", "pick-place", "door-open", "drawer-open",
+    "drawer-close", "button-press-topdown", "peg-insert-side", "window-open", "window-close",
+]
+ML10_TRAIN_TASKS = [
+    "reach", "push", "pick-place", "door-open", "drawer-close",
+    "button-press-topdown", "peg-insert-side", "window-open", "sweep", "basketball",
+]
+ML10_TEST_TASKS = ["drawer-open", "door-close", "shelf-place", "sweep-into", "lever-pull"]
