@@ -54,7 +54,8 @@ class Task(NamedTuple):
 class SawyerEnv(ManyworldsEnv):
     """One manipulation task with Meta-World's single-task interface.
 
-    Flat 39-value observations, ``set_task(task)``, ``max_path_length`` (500).
+    Flat 39-value observations (the env observation alone), ``set_task(task)``,
+    ``max_path_length`` (500).
     """
 
     TASK_ID: str = ""
@@ -62,9 +63,14 @@ class SawyerEnv(ManyworldsEnv):
     GOAL_OBSERVABLE: bool = True
 
     def __init__(self, render_mode: Optional[str] = None, **kwargs: Any) -> None:
-        kwargs.setdefault("flat_obs", True)
         kwargs.setdefault("goal_observable", self.GOAL_OBSERVABLE)
         super().__init__(self.TASK_ID, render_mode=render_mode, **kwargs)
+        # Meta-World's observation: the 39 values, whose last three are the goal (zeros when
+        # hidden); the task observation (the goal again) is left out.
+        self.observation_space = self.observation_space["env_obs"]
+
+    def _obs(self, env_obs, task_obs):
+        return env_obs
 
     def set_task(self, task: Task) -> None:
         """Switches to a task variation from a benchmark's ``train_tasks``/``test_tasks``.

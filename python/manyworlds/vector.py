@@ -215,7 +215,9 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
 
     def close_extras(self, **kwargs: Any) -> None:
         """Finishes a pending step; the C++ buffers are freed with the last view."""
-        self._exec.close()
+        core = getattr(self, "_exec", None)  # absent if __init__ failed
+        if core is not None:
+            core.close()
 
     # -- MTEnv task API per env ------------------------------------------------------------
 

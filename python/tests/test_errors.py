@@ -1,0 +1,127 @@
+"""C++ errors cross into Python as exceptions (never a crash); Ctrl-C works."""
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import manyworlds
+
+
+def test_unknown_id_and_option_are_value_errors_with_suggestions():
+    with pytest.raises(ValueError, match="did you mean 'cartpole'"):
+        manyworlds.make("cartpol")
+    with pytest.raises(manyworlds.ConfigError, match="n_arms"):
+        manyworlds.make("bandit", n_armz=3)
+    with pytest.raises(ValueError):
+        manyworlds.make("bandit", n_arms="many")
+    with pytest.raises(ValueError, match="unsupported type"):
+        manyworlds.make("bandit", n_arms={1, 2})
+
+
+def test_invalid_actions_are_value_errors_and_keep_the_episode():
+    env = manyworlds.make("cartpole")
+    env.reset()
+    with pytest.raises(manyworlds.InvalidActionError):
+        env.step(2)
+    with pytest.raises(ValueError):
+        env.step(np.array([0, 1]))
+    box = manyworlds.make("point-nav")
+    box.reset()
+    with pytest.raises(ValueError, match="NaN|nan|finite"):
+        box.step(np.array([np.nan, 0.0]))
+    with pytest.raises(ValueError):
+        box.step(np.zeros(3))
+    with pytest.raises(ValueError):
+        box.step("left")
+    box.step(np.zeros(2))  # the episode still runs
+    env.step(0)
+
+
+def test_protocol_errors_are_runtime_errors():
+    env = manyworlds.make("cartpole")
+    with pytest.raises(manyworlds.EpisodeStateError):
+        env.step(0)
+    with pytest.raises(RuntimeError, match="task"):
+        env.get_task_state()
+
+
+@pytest.mark.parametrize(
+    "state, field",
+    [
+        ({"env": "point-nav", "params": {"goal": [0.1]}}, "goal"),
+        ({"env": "point-nav", "params": {"goal": [0.1, "x"]}}, "goal"),
+        ({"env": "point-nav", "params": {"goal": [0.1, 9.0]}}, "goal"),
+        ({"env": "point-nav", "params": {"goal": [0.1, 0.2], "speed": 1}}, "speed"),
+        ({"env": "point-nav", "params": {}}, "goal"),
+        ({"env": "cartpole", "params": {"mu": [0, 0, 0, 0, 0]}}, "env"),
+        ({"env": "point-nav"}, "params"),
+        ({"params": {}}, "env"),
+        ({"env": 3, "params": {}}, "env"),
+        ({"env": "point-nav", "params": [1, 2]}, "params"),
+        ({"env": "point-nav", "params": {"goal": [0.1, 0.2]}, "extra": 1}, "extra"),
+        ({"env": "point-nav", "params": {"goal": [0.1, {1, 2}]}}, "params.goal[1]"),
+        ("point-nav", "dict"),
+    ],
+)
+def test_malformed_task_states_raise_value_error_naming_the_field(state, field):
+    env = manyworlds.make("point-nav")
+    env.reset()
+    before = env.get_task_state()
+    with pytest.raises(ValueError, match=field.replace("[", r"\[").replace("]", r"\]")):
+        env.set_task_state(state)
+    assert env.get_task_state() == before  # the previous task stays
+
+
+def test_vector_env_errors():
+    with pytest.raises(ValueError):
+        manyworlds.make_vec(["cartpole", "point-nav"])  # different spaces
+    envs = manyworlds.make_vec("cartpole", 2)
+    envs.reset()
+    with pytest.raises(ValueError):
+        envs.step(np.array([0, 5]))
+    with pytest.raises(ValueError):
+        envs.step(np.zeros(3))
+    with pytest.raises(IndexError):
+        envs.get_task_state(2)
+    with pytest.raises(ValueError, match="goal|env"):
+        envs.set_task_state(0, {"env": "point-nav", "params": {"goal": [0, 0]}})
+    envs.send(np.array([0, 1]))
+    with pytest.raises(RuntimeError):
+        envs.step(np.array([0, 1]))  # a step is pending
+    envs.recv()
+    envs.step(np.array([0, 1]))
+
+
+def test_keyboard_interrupt_during_a_long_stepping_loop():
+    script = textwrap.dedent(
+        """
+        import sys, numpy as np, manyworlds
+        envs = manyworlds.make_vec("reach", 8, threads=2)
+        envs.reset(seed=0)
+        actions = np.zeros((8, 4), np.float32)
+        print("ready", flush=True)
+        try:
+            while True:
+                envs.step(actions)
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+            sys.exit(0)
+        """
+    )
+    proc = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert proc.stdout.readline().strip() == "ready"
+        time.sleep(0.5)
+        proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == 0, err
+    assert "interrupted" in out
