@@ -49,7 +49,7 @@ EvalResult RandomPolicyEval(const TaskSet& tasks, int64_t episodes) {
 // Loads the final learner of a run.
 std::unique_ptr<agents::SacLearner> LoadLearner(const fs::path& run_dir) {
   const RunInfo run = RunInfo::Read(run_dir);
-  auto learner = std::make_unique<agents::SacLearner>(run.config.agent, 2, 2, run.tasks.size());
+  auto learner = std::make_unique<agents::SacLearner>(run.config.agent.sac(), 2, 2, run.tasks.size());
   torch::serialize::InputArchive archive;
   archive.load_from((LatestCheckpoint(run_dir) / "learner.pt").string());
   learner->Load(archive);

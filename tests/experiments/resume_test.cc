@@ -36,10 +36,10 @@ TrainConfig Tiny(const fs::path& run_dir) {
   c.env.num_tasks = 3;
   c.env.envs_per_task = 2;
   c.env.options = {{"horizon", 50}};
-  c.agent.hidden_dim = 32;
-  c.agent.num_layers = 2;
-  c.agent.batch_size = 16;
-  c.agent.disentangled_alpha = true;
+  c.agent.sac().hidden_dim = 32;
+  c.agent.sac().num_layers = 2;
+  c.agent.sac().batch_size = 16;
+  c.agent.sac().disentangled_alpha = true;
   c.replay.capacity = 3000;
   c.experiment.seed = 11;
   c.experiment.steps_per_task = 600;

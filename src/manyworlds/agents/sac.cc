@@ -530,6 +530,13 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, bool deterministic) {
   return Act(obs, torch::zeros({b}, torch::kInt64), deterministic);
 }
 
+ActOutput SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
+                          ActorState&, ActMode mode) {
+  ActOutput out;
+  out.action = Act(obs, task_index, mode == ActMode::kDeterministic);
+  return out;
+}
+
 void SacLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("architecture", torch::tensor(static_cast<int64_t>(arch_), torch::kInt64));
   archive.write("num_tasks", torch::tensor(num_tasks_, torch::kInt64));

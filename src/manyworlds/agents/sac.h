@@ -60,7 +60,9 @@
 
 #include <torch/torch.h>
 
+#include "manyworlds/agents/actor.h"
 #include "manyworlds/agents/batch.h"
+#include "manyworlds/agents/learner.h"
 #include "manyworlds/agents/metrics.h"
 #include "manyworlds/agents/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
@@ -77,7 +79,7 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
                            const torch::Tensor& next_q, const torch::Tensor& next_log_prob,
                            const torch::Tensor& alpha, double discount);
 
-class SacLearner {
+class SacLearner : public OffPolicyLearner, public Actor {
  public:
   // Validates the config (ConfigError) and the dims (> 0).
   SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
@@ -90,7 +92,7 @@ class SacLearner {
 
   // One update on a batch (any size). Throws Error on a malformed batch, or
   // if the critic loss exceeds config.max_critic_loss (before any step).
-  Metrics Update(const Batch& batch);
+  Metrics Update(const Batch& batch) override;
 
   // Actions in (-1, 1) for obs (B, obs_dim) of tasks task_index (B) int64
   // in [0, num_tasks), or obs (obs_dim) with a one-element task_index
@@ -101,6 +103,10 @@ class SacLearner {
                     bool deterministic);
   // Single-task form (task 0); throws Error when num_tasks > 1.
   torch::Tensor Act(const torch::Tensor& obs, bool deterministic);
+  // The Actor form (no log-probabilities; SAC's actions lie in (-1, 1)).
+  ActOutput Act(const torch::Tensor& obs, const torch::Tensor& task_index, ActorState& state,
+                ActMode mode) override;
+  Actor& AsActor() override { return *this; }
 
   // The critic target y (B) of step 1, drawing a' from this learner's
   // generator. Exposed for tests and diagnostics.
@@ -143,8 +149,8 @@ class SacLearner {
   // Full training state: networks, encoders, targets, temperatures,
   // optimizers, update count, generator. Load throws Error on a checkpoint
   // of another architecture, task count or size.
-  void Save(torch::serialize::OutputArchive& archive) const;
-  void Load(torch::serialize::InputArchive& archive);
+  void Save(torch::serialize::OutputArchive& archive) const override;
+  void Load(torch::serialize::InputArchive& archive) override;
 
  private:
   enum class Arch { kMlp, kMultiHead, kTaskEncoder, kMoe };

@@ -3,8 +3,13 @@
 #include <algorithm>
 #include <chrono>
 
+#include <torch/torch.h>
+
+#include "manyworlds/agents/actor.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
+#include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/episode_tracker.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -30,18 +35,6 @@ nlohmann::json EvalResult::ToJson() const {
           {"mean_return", mean_return},
           {"per_task", tasks},
           {"wall_s", wall_s}};
-}
-
-void ScaleActions(const float* unit, int64_t rows, const EnvFacts& facts, float* out) {
-  const int64_t a = facts.action_dim;
-  for (int64_t r = 0; r < rows; ++r) {
-    for (int64_t j = 0; j < a; ++j) {
-      const float lo = facts.action_low[j];
-      const float hi = facts.action_high[j];
-      const float u = std::clamp(unit[r * a + j], -1.0f, 1.0f);
-      out[r * a + j] = lo + 0.5f * (u + 1.0f) * (hi - lo);
-    }
-  }
 }
 
 Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
@@ -99,7 +92,7 @@ EvalResult Evaluator::Run(const PolicyFn& policy) {
           torch::from_blob(const_cast<float*>(exec_->env_obs().data()), {n, obs_dim},
                            torch::kFloat32);
       const torch::Tensor unit = policy(obs, task_index).contiguous();
-      ScaleActions(unit.data_ptr<float>(), n, facts_, actions.data());
+      PolicyToEnvActions(unit.data_ptr<float>(), n, facts_, actions.data());
       exec_->Step(actions);
       const auto rewards = exec_->rewards();
       const auto terminated = exec_->terminated();
@@ -109,7 +102,7 @@ EvalResult Evaluator::Run(const PolicyFn& policy) {
         if (!active[i]) continue;
         ep_return[i] += rewards[i];
         ep_length[i] += 1;
-        if (facts_.success_index >= 0 && info[i * info_size + facts_.success_index] > 0.5f) {
+        if (facts_.success_index >= 0 && info[i * info_size + facts_.success_index] > kSuccessThreshold) {
           ep_success[i] = 1;
         }
         if (terminated[i] || truncated[i]) {
@@ -141,6 +134,13 @@ EvalResult Evaluator::Run(const PolicyFn& policy) {
   result.mean_return = sum_return / num_tasks;
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+EvalResult Evaluator::Run(agents::Actor& actor) {
+  agents::ActorState state = actor.Initial(tasks_.size() * slots_);
+  return Run([&](const torch::Tensor& obs, const torch::Tensor& task) {
+    return actor.Act(obs, task, state, agents::ActMode::kDeterministic).action;
+  });
 }
 
 }  // namespace manyworlds::experiments

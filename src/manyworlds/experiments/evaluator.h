@@ -22,11 +22,18 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
-#include <torch/torch.h>
 
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/experiments/task_set.h"
+
+// Torch-free header (the Python bindings and env-only tools include it).
+namespace at {
+class Tensor;
+}  // namespace at
+namespace manyworlds::agents {
+class Actor;
+}  // namespace manyworlds::agents
 
 namespace manyworlds::experiments {
 
@@ -52,12 +59,23 @@ struct EvalResult {
 
 // obs (N, obs_dim) float32 and task indices (N) int64 -> actions (N,
 // action_dim) in (-1, 1).
-using PolicyFn = std::function<torch::Tensor(const torch::Tensor& obs, const torch::Tensor& task)>;
+using PolicyFn = std::function<at::Tensor(const at::Tensor& obs, const at::Tensor& task)>;
 
 // Seed stream of evaluation episodes (mixed with the run seed).
 inline constexpr uint64_t kEvalSeedStream = 0x6576616c;  // "eval"
 
-class Evaluator {
+// An evaluation protocol: runs a policy on a run's tasks and reports
+// per-task results. The multi-task protocol (Evaluator) is the one today;
+// the meta-test protocol (explore, adapt, evaluate on held-out tasks) will be
+// another implementation.
+class EvaluationProtocol {
+ public:
+  virtual ~EvaluationProtocol() = default;
+  virtual EvalResult Run(agents::Actor& actor) = 0;
+};
+
+// The multi-task protocol.
+class Evaluator : public EvaluationProtocol {
  public:
   // Builds the evaluation envs (a wave of up to 64 envs in all, split evenly
   // between tasks). Throws ConfigError as InspectEnvs does.
@@ -66,6 +84,8 @@ class Evaluator {
   ~Evaluator();
 
   EvalResult Run(const PolicyFn& policy);
+  // Deterministic actions of a (feed-forward) actor.
+  EvalResult Run(agents::Actor& actor) override;
 
   int64_t episodes_per_task() const { return episodes_; }
 
@@ -77,9 +97,6 @@ class Evaluator {
   int64_t slots_;  // envs per task in one wave
   std::unique_ptr<BatchedExecutor> exec_;
 };
-
-// Maps policy actions in (-1, 1) to the env's Box bounds.
-void ScaleActions(const float* unit, int64_t rows, const EnvFacts& facts, float* out);
 
 }  // namespace manyworlds::experiments
 

@@ -155,27 +155,32 @@ EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
     const EnvSpec& spec = env->spec();
     const Space& action = spec.action_space;
     const std::string who = "env '" + spec.id + "' (task " + tasks.tasks[t].name + ")";
-    if (!action.is_box()) {
-      throw ConfigError(who + ": SAC needs a Box action space, got " + action.ToString());
-    }
-    for (size_t i = 0; i < action.low().size(); ++i) {
+    for (size_t i = 0; action.is_box() && i < action.low().size(); ++i) {
       if (!std::isfinite(action.low()[i]) || !std::isfinite(action.high()[i])) {
-        throw ConfigError(who + ": SAC needs a bounded action space, got " + action.ToString());
+        throw ConfigError(who + ": the action space must be bounded (policies act in [-1, 1], "
+                          "scaled to the bounds), got " + action.ToString());
       }
     }
+    const int64_t num_actions = action.is_box() ? 0 : action.n();
     if (spec.max_episode_steps <= 0) {
       throw ConfigError(who + " has no episode limit; set env.options.max_episode_steps");
     }
     if (t == 0) {
       facts.obs_dim = spec.env_obs_space.flat_size();
       facts.action_dim = action.flat_size();
-      facts.action_low = action.low();
-      facts.action_high = action.high();
+      facts.num_actions = num_actions;
+      if (action.is_box()) {
+        facts.action_low = action.low();
+        facts.action_high = action.high();
+      }
+      facts.info_size = spec.info_fields.size();
       facts.success_index = spec.InfoIndex("success");
       info_fields = spec.info_fields;
     } else if (spec.env_obs_space.flat_size() != facts.obs_dim ||
-               action.flat_size() != facts.action_dim || action.low() != facts.action_low ||
-               action.high() != facts.action_high || spec.info_fields != info_fields) {
+               action.flat_size() != facts.action_dim || num_actions != facts.num_actions ||
+               (action.is_box() && (action.low() != facts.action_low ||
+                                    action.high() != facts.action_high)) ||
+               spec.info_fields != info_fields) {
       throw ConfigError(who + " differs from task " + tasks.tasks[0].name +
                         " in observation size, action space or info fields");
     }

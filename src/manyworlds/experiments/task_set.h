@@ -21,9 +21,20 @@
 #include "manyworlds/core/env.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/core/task_state.h"
-#include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
+
+// The env section of a training config (train_config.h documents the keys).
+struct EnvSectionConfig {
+  std::string id;                  // one env id (tasks empty), or
+  std::vector<std::string> tasks;  // one env id per task
+  int64_t num_tasks = 0;           // with id; 0 = the env's task groups, or 1
+  int64_t variations_per_task = 0; // 0 = all of a group's states
+  nlohmann::json task_states = nlohmann::json::array();  // explicit, one per task
+  nlohmann::json options = nlohmann::json::object();     // registry options
+  int64_t envs_per_task = 1;
+  uint64_t task_seed = 0;
+};
 
 struct TaskSpec {
   std::string name;    // unique, for tables and metric keys ("point-nav/1", "reach")
@@ -52,14 +63,17 @@ TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry);
 // Facts shared by every env of a task set, checked to agree between tasks.
 struct EnvFacts {
   int64_t obs_dim = 0;         // env observation size (the learner's input)
-  int64_t action_dim = 0;
-  std::vector<float> action_low, action_high;  // finite Box bounds
+  int64_t action_dim = 0;      // Box size, 1 for Discrete
+  int64_t num_actions = 0;     // > 0: a Discrete(num_actions) action space
+  std::vector<float> action_low, action_high;  // finite Box bounds (empty for Discrete)
+  size_t info_size = 0;        // info fields per step
   int64_t episode_length = 0;  // the largest max_episode_steps (> 0)
   int success_index = -1;      // index of the "success" info field, or -1
 };
 
-// Throws ConfigError if an env has a non-Box or unbounded action space, no
-// episode limit, or sizes that differ between tasks.
+// Throws ConfigError if an env has an unbounded Box action space, no
+// episode limit, or spaces that differ between tasks. Which action spaces an
+// algorithm accepts is the algorithm's check (algorithms.h).
 EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry);
 
 }  // namespace manyworlds::experiments

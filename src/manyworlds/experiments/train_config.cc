@@ -7,86 +7,36 @@
 #include "manyworlds/config/reader.h"
 #include "manyworlds/config/yaml.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/algorithms.h"
 
 namespace manyworlds::experiments {
 namespace {
 
-void ReadAgent(ConfigReader r, agents::SacConfig& c) {
-  r.Read("hidden_dim", c.hidden_dim);
-  r.Read("num_layers", c.num_layers);
-  r.Read("actor_lr", c.actor_lr);
-  r.Read("critic_lr", c.critic_lr);
-  r.Read("alpha_lr", c.alpha_lr);
-  r.Read("adam_beta1", c.adam_beta1);
-  r.Read("adam_beta2", c.adam_beta2);
-  r.Read("discount", c.discount);
-  r.Read("tau", c.tau);
-  r.Read("init_temperature", c.init_temperature);
-  r.Read("batch_size", c.batch_size);
-  if (r.Has("target_entropy")) {
-    nlohmann::json value;
-    r.Read("target_entropy", value);
-    if (value.is_null()) {
-      c.target_entropy.reset();
-    } else if (value.is_number()) {
-      c.target_entropy = value.get<double>();
-    } else {
-      throw ConfigError("'" + r.FullKey("target_entropy") +
-                        "' must be a number or null (= -action_dim), got " + value.dump());
+// The full default tree for an algorithm, so that dotted overrides can name
+// any of its keys.
+nlohmann::json DefaultTree(const std::string& algo) {
+  TrainConfig defaults;
+  defaults.agent = DefaultAgentConfig(algo);
+  return defaults.ToJson();
+}
+
+// agent.algo as the file and the overrides set it (the last override wins).
+std::string ChosenAlgo(const nlohmann::json& file, const std::vector<std::string>& overrides) {
+  std::string algo = "sac";
+  if (file.is_object() && file.contains("agent") && file["agent"].is_object() &&
+      file["agent"].contains("algo")) {
+    const nlohmann::json& value = file["agent"]["algo"];
+    if (!value.is_string()) {
+      throw ConfigError("'agent.algo' must be a string, got " + value.dump());
     }
+    algo = value.get<std::string>();
   }
-  r.Read("disentangled_alpha", c.disentangled_alpha);
-  r.Read("log_std_min", c.log_std_min);
-  r.Read("log_std_max", c.log_std_max);
-  r.Read("actor_update_freq", c.actor_update_freq);
-  r.Read("critic_target_update_freq", c.critic_target_update_freq);
-  r.Read("max_critic_loss", c.max_critic_loss);
-  r.Read("seed", c.seed);
-  r.Read("architecture", c.architecture);
-  r.Read("task_embedding_dim", c.task_embedding_dim);
-  r.Read("num_experts", c.num_experts);
-  r.Read("encoder_dim", c.encoder_dim);
-  r.Read("pcgrad", c.pcgrad);
-  r.Read("update_shards", c.update_shards);
-  r.Read("update_threads", c.update_threads);
-  r.Finish();
+  constexpr std::string_view kKey = "agent.algo=";
+  for (const std::string& o : overrides) {
+    if (o.rfind(kKey, 0) == 0) algo = o.substr(kKey.size());
+  }
+  return algo;
 }
-
-nlohmann::json AgentToJson(const agents::SacConfig& c) {
-  nlohmann::json j = {
-      {"hidden_dim", c.hidden_dim},
-      {"num_layers", c.num_layers},
-      {"actor_lr", c.actor_lr},
-      {"critic_lr", c.critic_lr},
-      {"alpha_lr", c.alpha_lr},
-      {"adam_beta1", c.adam_beta1},
-      {"adam_beta2", c.adam_beta2},
-      {"discount", c.discount},
-      {"tau", c.tau},
-      {"init_temperature", c.init_temperature},
-      {"batch_size", c.batch_size},
-      {"target_entropy",
-       c.target_entropy ? nlohmann::json(*c.target_entropy) : nlohmann::json(nullptr)},
-      {"disentangled_alpha", c.disentangled_alpha},
-      {"log_std_min", c.log_std_min},
-      {"log_std_max", c.log_std_max},
-      {"actor_update_freq", c.actor_update_freq},
-      {"critic_target_update_freq", c.critic_target_update_freq},
-      {"max_critic_loss", c.max_critic_loss},
-      {"seed", c.seed},
-      {"architecture", c.architecture},
-      {"task_embedding_dim", c.task_embedding_dim},
-      {"num_experts", c.num_experts},
-      {"encoder_dim", c.encoder_dim},
-      {"pcgrad", c.pcgrad},
-      {"update_shards", c.update_shards},
-      {"update_threads", c.update_threads},
-  };
-  return j;
-}
-
-// The full default tree, so that dotted overrides can name any key.
-nlohmann::json DefaultTree() { return TrainConfig{}.ToJson(); }
 
 [[noreturn]] void Bad(const std::string& key, const std::string& what) {
   throw ConfigError("'" + key + "' " + what);
@@ -111,7 +61,15 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
     if (c.env.task_states.is_null()) c.env.task_states = nlohmann::json::array();
     if (c.env.options.is_null()) c.env.options = nlohmann::json::object();
   }
-  ReadAgent(root.Section("agent"), c.agent);
+  {
+    ConfigReader r = root.Section("agent");
+    if (json.is_object() && json.contains("agent")) {
+      c.agent = ReadAgentConfig(json["agent"]);
+      nlohmann::json ignored;
+      for (const auto& [key, value] : json["agent"].items()) r.Read(key, ignored);
+    }
+    r.Finish();
+  }
   {
     ConfigReader r = root.Section("replay");
     r.Read("capacity", c.replay.capacity);
@@ -140,9 +98,10 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
 
 TrainConfig TrainConfig::Load(const std::optional<std::filesystem::path>& file,
                               const std::vector<std::string>& overrides) {
-  nlohmann::json tree = DefaultTree();
+  nlohmann::json from_file;
+  if (file) from_file = LoadYamlFile(*file);
+  nlohmann::json tree = DefaultTree(ChosenAlgo(from_file, overrides));
   if (file) {
-    nlohmann::json from_file = LoadYamlFile(*file);
     if (!from_file.is_null() && !from_file.is_object()) {
       throw ConfigError(file->string() + ": the top level must be a mapping");
     }
@@ -176,7 +135,7 @@ nlohmann::json TrainConfig::ToJson() const {
         {"options", env.options},
         {"envs_per_task", env.envs_per_task},
         {"task_seed", env.task_seed}}},
-      {"agent", AgentToJson(agent)},
+      {"agent", AgentConfigToJson(agent)},
       {"replay", {{"capacity", replay.capacity}, {"sampling", replay.sampling}}},
       {"experiment",
        {{"seed", experiment.seed},
@@ -193,16 +152,8 @@ nlohmann::json TrainConfig::ToJson() const {
   };
 }
 
-agents::ReplaySampling TrainConfig::sampling() const {
-  try {
-    return agents::ParseReplaySampling(replay.sampling);
-  } catch (const ConfigError&) {
-    Bad("replay.sampling", "must be 'uniform' or 'balanced', got '" + replay.sampling + "'");
-  }
-}
-
 int64_t TrainConfig::TotalBatchSize(int64_t num_tasks) const {
-  return experiment.batch_size > 0 ? experiment.batch_size : agent.batch_size * num_tasks;
+  return experiment.batch_size > 0 ? experiment.batch_size : agent.sac().batch_size * num_tasks;
 }
 
 void TrainConfig::Validate() const {
@@ -236,10 +187,31 @@ void TrainConfig::Validate() const {
     Bad("env.envs_per_task", "must be >= 1, got " + std::to_string(env.envs_per_task));
   }
   // agent
-  agent.Validate();
+  ValidateAgentConfig(agent);
   // replay
   if (replay.capacity < 1) Bad("replay.capacity", "must be >= 1, got " + std::to_string(replay.capacity));
-  sampling();
+  if (replay.sampling != "uniform" && replay.sampling != "balanced") {
+    Bad("replay.sampling", "must be 'uniform' or 'balanced', got '" + replay.sampling + "'");
+  }
+  if (FindAlgorithm(agent.algo()).family != AlgorithmFamily::kOffPolicy) {
+    // keys this algorithm would silently ignore
+    const TrainConfig defaults;
+    const auto& d = defaults.experiment;
+    const char* ignored = nullptr;
+    if (replay.capacity != defaults.replay.capacity || replay.sampling != defaults.replay.sampling) {
+      ignored = "replay";
+    } else if (experiment.warmup_steps != d.warmup_steps) {
+      ignored = "experiment.warmup_steps";
+    } else if (experiment.updates_per_step != d.updates_per_step) {
+      ignored = "experiment.updates_per_step";
+    } else if (experiment.batch_size != d.batch_size) {
+      ignored = "experiment.batch_size";
+    }
+    if (ignored != nullptr) {
+      Bad(ignored, "applies to off-policy algorithms only; agent.algo '" + agent.algo() +
+                       "' is on-policy (its batch is agent.rollout_rounds rounds of every env)");
+    }
+  }
   // experiment
   const auto& e = experiment;
   if (e.steps_per_task < 1) {

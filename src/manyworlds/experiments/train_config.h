@@ -17,24 +17,32 @@
 //                          # max_episode_steps)
 //     envs_per_task: 1     # training envs stepped per task
 //     task_seed: 0         # draws the task set; independent of experiment.seed
-//   agent: {...}           # SacConfig, same field names (hidden_dim, actor_lr, ...,
-//                          # architecture, pcgrad...); agent.batch_size is per
-//                          # task; agent.seed is mixed with experiment.seed
-//   replay:
+//   agent:
+//     algo: sac            # the algorithm (experiments/algorithms.h lists them:
+//                          # sac, ppo, trpo); the other keys are that
+//                          # algorithm's config (agents/sac_config.h,
+//                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h),
+//                          # e.g. hidden_dim, actor_lr, architecture, pcgrad;
+//                          # agent.seed is mixed with experiment.seed
+//   replay:                # off-policy algorithms (sac) only
 //     capacity: 1000000    # transitions, split evenly per task
 //     sampling: balanced   # balanced | uniform
 //   experiment:
 //     seed: 1
 //     steps_per_task: 100000   # env steps per training env
-//     warmup_steps: 1500       # uniform random actions first (per env)
-//     updates_per_step: 1.0    # gradient updates per loop step (all envs), may be < 1
-//     batch_size: 0            # transitions per update; 0 = agent.batch_size x num_tasks
+//     warmup_steps: 1500       # off-policy: uniform random actions first (per env)
+//     updates_per_step: 1.0    # off-policy: gradient updates per loop step (all envs)
+//     batch_size: 0            # off-policy: transitions per update; 0 = agent.batch_size x num_tasks
 //     eval_every: 10000        # env steps per task; 0 = only at the end
 //     eval_episodes: 10        # per task
 //     num_threads: 1           # executor worker threads
 //     checkpoint_every: 50000  # env steps per task; 0 = only at the end
 //     keep_checkpoints: 1      # newest checkpoints kept (0 = all)
 //     run_dir: runs/train
+//
+// Only the keys of the chosen algorithm are allowed under agent:, and a
+// config whose replay or off-policy experiment keys differ from their
+// defaults is refused for an on-policy algorithm (they would be ignored).
 //
 // Training runs in rounds of one episode length (the largest
 // max_episode_steps of the envs): every env starts a fresh episode at the
@@ -53,21 +61,17 @@
 
 #include <nlohmann/json.hpp>
 
-#include "manyworlds/agents/replay_buffer.h"
+#include "manyworlds/core/error.h"
+
+#include <variant>
+
+#include "manyworlds/agents/ppo/ppo_config.h"
 #include "manyworlds/agents/sac_config.h"
+#include "manyworlds/agents/trpo/trpo_config.h"
+#include "manyworlds/experiments/task_set.h"
 
 namespace manyworlds::experiments {
 
-struct EnvSectionConfig {
-  std::string id;                  // one env id (tasks empty), or
-  std::vector<std::string> tasks;  // one env id per task
-  int64_t num_tasks = 0;           // with id; 0 = the env's task groups, or 1
-  int64_t variations_per_task = 0; // 0 = all of a group's states
-  nlohmann::json task_states = nlohmann::json::array();  // explicit, one per task
-  nlohmann::json options = nlohmann::json::object();     // registry options
-  int64_t envs_per_task = 1;
-  uint64_t task_seed = 0;
-};
 
 struct ReplaySectionConfig {
   int64_t capacity = 1000000;
@@ -88,9 +92,30 @@ struct ExperimentSectionConfig {
   std::string run_dir = "runs/train";
 };
 
+// The agent section: one algorithm's typed config. The variant's
+// alternatives are the algorithm registry's configs (algorithms.h).
+struct AgentConfig {
+  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig> params;
+
+  // The registry name of the algorithm ("sac", "ppo", "trpo").
+  std::string algo() const;
+  // The typed config; ConfigError if the agent is another algorithm.
+  template <class C>
+  C& as() {
+    if (C* c = std::get_if<C>(&params)) return *c;
+    throw ConfigError("the agent is '" + algo() + "', not the algorithm this code expects");
+  }
+  template <class C>
+  const C& as() const {
+    return const_cast<AgentConfig*>(this)->as<C>();
+  }
+  agents::SacConfig& sac() { return as<agents::SacConfig>(); }
+  const agents::SacConfig& sac() const { return as<agents::SacConfig>(); }
+};
+
 struct TrainConfig {
   EnvSectionConfig env;
-  agents::SacConfig agent;
+  AgentConfig agent;
   ReplaySectionConfig replay;
   ExperimentSectionConfig experiment;
 
@@ -107,8 +132,7 @@ struct TrainConfig {
   // (including the agent section). Env ids are checked when the envs are made.
   void Validate() const;
 
-  agents::ReplaySampling sampling() const;
-  // Transitions per update for num_tasks tasks.
+  // Off-policy: transitions per update for num_tasks tasks.
   int64_t TotalBatchSize(int64_t num_tasks) const;
 };
 

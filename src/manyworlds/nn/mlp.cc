@@ -86,7 +86,8 @@ void InitMlpParams(at::ArrayRef<torch::Tensor> params, c10::optional<at::Generat
   }
 }
 
-torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) {
+torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params,
+                         Activation activation) {
   if (params.empty() || params.size() % 2 != 0) {
     throw Error("MlpForward: expects (w, b) pairs, got " + std::to_string(params.size()) +
                 " tensors");
@@ -100,7 +101,13 @@ torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> par
     h = ensemble ? torch::baddbmm(params[i + 1], h, params[i])
                  : torch::addmm(params[i + 1], h, params[i]);
     // In place is safe: addmm's backward needs its inputs, not its output.
-    if (i + 2 < params.size()) h.relu_();
+    if (i + 2 < params.size()) {
+      if (activation == Activation::kRelu) {
+        h.relu_();
+      } else {
+        h = torch::tanh(h);  // tanh's backward needs its output: not in place
+      }
+    }
   }
   return h;
 }
@@ -134,7 +141,7 @@ MlpImpl::MlpImpl(const MlpOptions& options, c10::optional<at::Generator> generat
 
 torch::Tensor MlpImpl::Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const {
   CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
-  return MlpForward(x, params);
+  return MlpForward(x, params, options_.activation);
 }
 
 EnsembleMlpImpl::EnsembleMlpImpl(const MlpOptions& options,
@@ -150,7 +157,7 @@ EnsembleMlpImpl::EnsembleMlpImpl(const MlpOptions& options,
 torch::Tensor EnsembleMlpImpl::Forward(const torch::Tensor& x,
                                        at::ArrayRef<torch::Tensor> params) const {
   CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
-  return MlpForward(x, params);
+  return MlpForward(x, params, options_.activation);
 }
 
 }  // namespace manyworlds::nn

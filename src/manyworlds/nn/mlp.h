@@ -27,12 +27,17 @@
 
 namespace manyworlds::nn {
 
+// Hidden-layer nonlinearity: ReLU (SAC family, MTRL) or tanh (garage's
+// on-policy Gaussian MLP policies and value functions).
+enum class Activation { kRelu, kTanh };
+
 struct MlpOptions {
   int64_t input_dim = 0;
   int64_t output_dim = 0;
   int64_t hidden_dim = 400;
   int64_t num_layers = 3;  // hidden layers; 0 gives a single linear map
   int64_t ensemble_size = 1;  // EnsembleMlp only
+  Activation activation = Activation::kRelu;
 };
 
 // Fills a 2-D tensor (or each matrix of a 3-D stack) with a (semi-)orthogonal
@@ -54,7 +59,8 @@ void InitMlpParams(at::ArrayRef<torch::Tensor> params, c10::optional<at::Generat
 // [Linear -> ReLU] x n -> Linear with params (w0, b0, ...) in [in, out]
 // layout: x (..., in) -> (..., out) for 2-D weights; for 3-D (E, in, out)
 // weights, x is (B, in) shared by all members or (E, B, in) -> (E, B, out).
-torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params);
+torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params,
+                         Activation activation = Activation::kRelu);
 
 // Multi-head outputs: `out` holds num_heads blocks of `head_dim` values in
 // its last dimension, (B, num_heads * head_dim) or (E, B, num_heads *

@@ -1,0 +1,228 @@
+#include "manyworlds/agents/policy_gradient/policy_gradient.h"
+
+#include <cmath>
+#include <string>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/threads.h"
+#include "manyworlds/rl/generator.h"
+
+namespace manyworlds::agents {
+namespace {
+
+const PolicyGradientConfig& Validated(const PolicyGradientConfig& config) {
+  config.Validate();
+  return config;
+}
+
+void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
+                 const torch::nn::Module& module) {
+  torch::serialize::OutputArchive sub;
+  module.save(sub);
+  archive.write(key, sub);
+}
+
+void ReadModule(torch::serialize::InputArchive& archive, const char* key,
+                torch::nn::Module& module) {
+  torch::serialize::InputArchive sub;
+  archive.read(key, sub);
+  module.load(sub);
+}
+
+nn::AdamOptions Adam(double lr) {
+  nn::AdamOptions o;
+  o.lr = lr;
+  return o;
+}
+
+}  // namespace
+
+double ExplainedVariance(const torch::Tensor& prediction, const torch::Tensor& target) {
+  const double var = target.var(/*unbiased=*/false).item<double>();
+  if (!(var > 0)) return 0.0;
+  return 1.0 - (target - prediction).var(/*unbiased=*/false).item<double>() / var;
+}
+
+double ClipGradNorm(const torch::Tensor& grad, double max_norm) {
+  const double norm = grad.norm().item<double>();
+  if (max_norm > 0 && norm > max_norm) grad.mul_(max_norm / (norm + 1e-6));
+  return norm;
+}
+
+PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
+                                             const PolicySpaces& spaces)
+    : config_(Validated(config)),
+      spaces_(spaces),
+      generator_(rl::MakeGenerator(config.seed)),
+      value_optimizer_(0, Adam(config.vf_lr)) {
+  if (spaces.obs_dim <= 0 || spaces.action_dim <= 0 || spaces.num_tasks <= 0) {
+    throw ConfigError("policy-gradient learner: obs_dim, action_dim and num_tasks must be > 0");
+  }
+  nn::ConfigureTorchThreads();
+  const bool multihead = config.architecture == "multihead";
+  input_dim_ = spaces.obs_dim + (!multihead && spaces.num_tasks > 1 ? spaces.num_tasks : 0);
+  const int64_t heads = multihead ? spaces.num_tasks : 1;
+  nn::StochasticPolicyOptions p;
+  p.input_dim = input_dim_;
+  p.action_dim = spaces.action_dim;
+  p.num_actions = spaces.num_actions;
+  p.hidden_dim = config.hidden_dim;
+  p.num_layers = config.num_layers;
+  p.init_std = config.init_std;
+  p.min_std = config.min_std;
+  p.max_std = config.max_std;
+  p.num_heads = heads;
+  policy_ = nn::StochasticPolicy(p, generator_);
+  if (config.baseline == "mlp") {
+    value_ = nn::ValueNetwork(input_dim_, config.vf_hidden_dim, config.vf_num_layers, heads,
+                              generator_);
+    value_optimizer_ = nn::FlatAdam(value_->num_params(), Adam(config.vf_lr));
+  } else {
+    linear_ = std::make_unique<rl::LinearFeatureBaseline>(input_dim_);
+  }
+}
+
+torch::Tensor PolicyGradientLearner::Heads(const torch::Tensor& task_index) const {
+  return config_.architecture == "multihead" ? task_index : torch::Tensor();
+}
+
+torch::Tensor PolicyGradientLearner::NetworkInput(const torch::Tensor& obs,
+                                                  const torch::Tensor& task_index) const {
+  if (input_dim_ == spaces_.obs_dim) return obs;
+  return torch::cat({obs, torch::one_hot(task_index, spaces_.num_tasks).to(obs.scalar_type())},
+                    -1);
+}
+
+ActOutput PolicyGradientLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
+                                     ActorState&, ActMode mode) {
+  c10::InferenceMode inference;
+  if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim || task_index.dim() != 1 ||
+      task_index.size(0) != obs.size(0)) {
+    throw Error(std::string(algo_name()) + " actor: expected obs (N, " +
+                std::to_string(spaces_.obs_dim) + ") and task_index (N)");
+  }
+  const nn::ActionDistribution d =
+      policy_->Forward(NetworkInput(obs, task_index), Heads(task_index));
+  ActOutput out;
+  out.action = mode == ActMode::kSample ? d.Sample(generator_) : d.Mode();
+  out.log_prob = d.LogProb(out.action);
+  return out;
+}
+
+torch::Tensor PolicyGradientLearner::Values(const torch::Tensor& x, const torch::Tensor& head,
+                                            const torch::Tensor& t) const {
+  torch::NoGradGuard no_grad;
+  if (value_) return value_->Forward(x, head);
+  return linear_->Predict(x, t);
+}
+
+Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
+  const int64_t b = rollout.size();
+  const torch::Tensor tasks = rollout.FlatTasks();
+  const torch::Tensor head = Heads(tasks);
+  const torch::Tensor x = NetworkInput(rollout.FlatObs(), tasks);
+  const torch::Tensor t = rollout.episode_steps.reshape({b});
+  {
+    torch::NoGradGuard no_grad;
+    rollout.values.copy_(Values(x, head, t).reshape(rollout.values.sizes()));
+    const torch::Tensor final_x =
+        NetworkInput(rollout.final_obs.reshape({b, spaces_.obs_dim}), tasks);
+    const torch::Tensor boot = Values(final_x, head, t + 1).reshape(rollout.values.sizes());
+    rollout.bootstrap_values.copy_(boot * rollout.ended * (1.0 - rollout.terminated));
+  }
+  Metrics metrics;
+  torch::Tensor raw_rewards;
+  if (config_.entropy_method == "max" && config_.entropy_coeff > 0) {
+    raw_rewards = rollout.rewards.clone();
+    rollout.rewards.add_(-config_.entropy_coeff * rollout.log_probs);
+  }
+  rollout.ComputeAdvantages(config_.discount, config_.gae_lambda);
+  if (linear_) linear_->Fit(x, t, rollout.DiscountedReturns(config_.discount).reshape({b}));
+  if (raw_rewards.defined()) rollout.rewards.copy_(raw_rewards);
+
+  PolicySamples s;
+  s.x = x;
+  s.head = head;
+  s.actions = rollout.FlatActions();
+  s.log_probs = rollout.log_probs.reshape({b});
+  s.returns = rollout.returns.reshape({b});
+  s.episode_steps = t;
+  torch::Tensor adv = rollout.advantages.reshape({b});
+  if (config_.center_advantages && b > 1) adv = (adv - adv.mean()) / (adv.std() + 1e-8);
+  s.advantages = adv;
+  metrics.Set("explained_variance", ExplainedVariance(rollout.values.reshape({b}), s.returns));
+  for (const auto& [name, value] : OptimizePolicy(s).items()) metrics.Set(name, value);
+  ++num_updates_;
+  return metrics;
+}
+
+double PolicyGradientLearner::ValueStep(const PolicySamples& s, const torch::Tensor& rows) {
+  const torch::Tensor head = s.head.defined() ? s.head.index_select(0, rows) : torch::Tensor();
+  const torch::Tensor v = value_->Forward(s.x.index_select(0, rows), head);
+  const torch::Tensor loss = (v - s.returns.index_select(0, rows)).square().mean();
+  value_->ZeroGrad();
+  loss.backward();
+  value_optimizer_.Step(value_->flat(), value_->flat_grad());
+  return loss.item<double>();
+}
+
+double PolicyGradientLearner::FitValue(const PolicySamples& s, int64_t epochs,
+                                       int64_t minibatch_size) {
+  if (!value_) return 0.0;
+  const int64_t b = s.size();
+  double sum = 0.0;
+  int64_t count = 0;
+  for (int64_t e = 0; e < epochs; ++e) {
+    const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
+    for (int64_t lo = 0; lo < b; lo += minibatch_size) {
+      sum += ValueStep(s, perm.narrow(0, lo, std::min(minibatch_size, b - lo)));
+      ++count;
+    }
+  }
+  return count > 0 ? sum / count : 0.0;
+}
+
+void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const {
+  archive.write("algo", torch::tensor(static_cast<int64_t>(algo_name()[0]), torch::kInt64));
+  archive.write("input_dim", torch::tensor(input_dim_, torch::kInt64));
+  WriteModule(archive, "policy", *policy_);
+  if (value_) {
+    WriteModule(archive, "value", *value_);
+    torch::serialize::OutputArchive sub;
+    value_optimizer_.Save(sub);
+    archive.write("value_optimizer", sub);
+  } else {
+    archive.write("linear_baseline", linear_->coefficients());
+  }
+  SaveExtra(archive);
+  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
+  archive.write("generator", generator_.get_state());
+}
+
+void PolicyGradientLearner::Load(torch::serialize::InputArchive& archive) {
+  torch::Tensor algo, input_dim, num_updates, state;
+  if (!archive.try_read("algo", algo) || !archive.try_read("input_dim", input_dim) ||
+      algo.item<int64_t>() != static_cast<int64_t>(algo_name()[0]) ||
+      input_dim.item<int64_t>() != input_dim_) {
+    throw Error(std::string(algo_name()) +
+                " checkpoint: not a checkpoint of this algorithm and network input");
+  }
+  ReadModule(archive, "policy", *policy_);
+  if (value_) {
+    ReadModule(archive, "value", *value_);
+    torch::serialize::InputArchive sub;
+    archive.read("value_optimizer", sub);
+    value_optimizer_.Load(sub);
+  } else {
+    torch::Tensor coefficients;
+    archive.read("linear_baseline", coefficients);
+    linear_->set_coefficients(coefficients);
+  }
+  LoadExtra(archive);
+  archive.read("num_updates", num_updates);
+  num_updates_ = num_updates.item<int64_t>();
+  archive.read("generator", state);
+  generator_.set_state(state);
+}
+
+}  // namespace manyworlds::agents

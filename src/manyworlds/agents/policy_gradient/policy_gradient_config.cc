@@ -1,0 +1,48 @@
+#include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::agents {
+namespace {
+
+template <typename T>
+void Require(bool ok, const char* field, const char* allowed, const T& value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
+  throw ConfigError(msg.str());
+}
+
+bool Positive(double x) { return std::isfinite(x) && x > 0; }
+
+}  // namespace
+
+void PolicyGradientConfig::Validate() const {
+  Require(architecture == "mlp" || architecture == "multihead", "architecture",
+          "one of mlp, multihead", architecture);
+  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
+  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
+  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
+  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+          init_std);
+  Require(baseline == "mlp" || baseline == "linear", "baseline", "one of mlp, linear", baseline);
+  Require(vf_hidden_dim > 0 && vf_hidden_dim <= 65536, "vf_hidden_dim", "in [1, 65536]",
+          vf_hidden_dim);
+  Require(vf_num_layers >= 0 && vf_num_layers <= 64, "vf_num_layers", "in [0, 64]",
+          vf_num_layers);
+  Require(Positive(vf_lr), "vf_lr", "finite and > 0", vf_lr);
+  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  Require(entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
+          "entropy_method", "one of regularized, max, none", entropy_method);
+  Require(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff", "finite and >= 0",
+          entropy_coeff);
+  Require(rollout_rounds >= 1 && rollout_rounds <= 100000, "rollout_rounds", "in [1, 100000]",
+          rollout_rounds);
+}
+
+}  // namespace manyworlds::agents

@@ -1,0 +1,73 @@
+// Settings shared by the policy-gradient family (PPO, TRPO; later the inner
+// learners of MAML and RL2). Defaults are garage's torch on-policy defaults
+// where it has them (discount 0.99, GAE lambda 0.95, centred advantages,
+// Gaussian MLP policy with tanh hidden layers, std in [0.5, 1.5] as the
+// Meta-World launchers clamp it); the network sizes are small ones, configs
+// set the published sizes.
+//
+// Task conditioning ("architecture"), built from the task index inside the
+// learner (observations never carry a task id):
+//   "mlp"        one-hot task id appended to the observation when there are
+//                several tasks (MT-PPO / MT-TRPO as in the Meta-World paper);
+//   "multihead"  shared trunk, one output head per task for policy and value.
+// Baseline: "mlp" (a tanh value network trained by regression on the
+// lambda-returns) or "linear" (garage's LinearFeatureBaseline).
+// Entropy: "regularized" subtracts entropy_coeff * H from the policy loss;
+// "max" adds entropy_coeff * (-log pi(a|s)) to every reward before GAE
+// (garage's entropy_method='max' with use_neg_logli_entropy); "none".
+#ifndef MANYWORLDS_AGENTS_POLICY_GRADIENT_POLICY_GRADIENT_CONFIG_H_
+#define MANYWORLDS_AGENTS_POLICY_GRADIENT_POLICY_GRADIENT_CONFIG_H_
+
+#include <cstdint>
+#include <string>
+
+namespace manyworlds::agents {
+
+struct PolicyGradientConfig {
+  std::string architecture = "mlp";  // mlp | multihead
+  int64_t hidden_dim = 64;
+  int64_t num_layers = 2;
+  double init_std = 1.0;
+  double min_std = 0.5;
+  double max_std = 1.5;
+  std::string baseline = "mlp";  // mlp | linear
+  int64_t vf_hidden_dim = 64;
+  int64_t vf_num_layers = 2;
+  double vf_lr = 2.5e-4;
+  double discount = 0.99;
+  double gae_lambda = 0.95;
+  bool center_advantages = true;  // normalise advantages to mean 0, std 1
+  std::string entropy_method = "regularized";  // regularized | max | none
+  double entropy_coeff = 0.0;
+  // Rounds (one episode length of every env) collected per iteration.
+  int64_t rollout_rounds = 1;
+  uint64_t seed = 0;
+
+  // Calls f(name, member) for every field, in documentation order.
+  template <class F>
+  void VisitFields(F&& f) {
+    f("architecture", architecture);
+    f("hidden_dim", hidden_dim);
+    f("num_layers", num_layers);
+    f("init_std", init_std);
+    f("min_std", min_std);
+    f("max_std", max_std);
+    f("baseline", baseline);
+    f("vf_hidden_dim", vf_hidden_dim);
+    f("vf_num_layers", vf_num_layers);
+    f("vf_lr", vf_lr);
+    f("discount", discount);
+    f("gae_lambda", gae_lambda);
+    f("center_advantages", center_advantages);
+    f("entropy_method", entropy_method);
+    f("entropy_coeff", entropy_coeff);
+    f("rollout_rounds", rollout_rounds);
+    f("seed", seed);
+  }
+  // Throws ConfigError naming the first bad field (prefix "agent.").
+  void Validate() const;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_POLICY_GRADIENT_POLICY_GRADIENT_CONFIG_H_

@@ -1,0 +1,110 @@
+#include "manyworlds/agents/ppo/ppo.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::agents {
+namespace {
+
+nn::AdamOptions Adam(double lr) {
+  nn::AdamOptions o;
+  o.lr = lr;
+  return o;
+}
+
+const PpoConfig& Validated(const PpoConfig& c) {
+  c.Validate();
+  return c;
+}
+
+}  // namespace
+
+void PpoConfig::Validate() const {
+  PolicyGradientConfig::Validate();
+  auto fail = [](const char* field, const char* allowed, double value) {
+    std::ostringstream msg;
+    msg << "'agent." << field << "' must be " << allowed << ", got " << value;
+    throw ConfigError(msg.str());
+  };
+  if (!(std::isfinite(lr) && lr > 0)) fail("lr", "finite and > 0", lr);
+  if (epochs < 1 || epochs > 10000) fail("epochs", "in [1, 10000]", epochs);
+  if (minibatch_size < 1 || minibatch_size > 100000000) {
+    fail("minibatch_size", "in [1, 1e8]", minibatch_size);
+  }
+  if (!(clip_range > 0 && clip_range < 1)) fail("clip_range", "in (0, 1)", clip_range);
+  if (!(std::isfinite(max_grad_norm) && max_grad_norm >= 0)) {
+    fail("max_grad_norm", "finite and >= 0", max_grad_norm);
+  }
+}
+
+PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
+    : PolicyGradientLearner(Validated(config), spaces),
+      ppo_(config),
+      policy_optimizer_(policy_->num_params(), Adam(config.lr)) {}
+
+Metrics PpoLearner::Epoch(const PolicySamples& s) {
+  const int64_t b = s.size();
+  const int64_t mb = std::min(ppo_.minibatch_size, b);
+  const double regularizer =
+      ppo_.entropy_method == "regularized" ? ppo_.entropy_coeff : 0.0;
+  const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
+  double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0;
+  int64_t count = 0;
+  for (int64_t lo = 0; lo < b; lo += mb) {
+    const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
+    const torch::Tensor head = s.head.defined() ? s.head.index_select(0, rows) : torch::Tensor();
+    const nn::ActionDistribution d = policy_->Forward(s.x.index_select(0, rows), head);
+    const torch::Tensor log_ratio =
+        d.LogProb(s.actions.index_select(0, rows)) - s.log_probs.index_select(0, rows);
+    const torch::Tensor ratio = log_ratio.exp();
+    const torch::Tensor adv = s.advantages.index_select(0, rows);
+    const torch::Tensor surrogate =
+        torch::minimum(ratio * adv, ratio.clamp(1.0 - ppo_.clip_range, 1.0 + ppo_.clip_range) * adv);
+    const torch::Tensor ent = d.Entropy().mean();
+    const torch::Tensor loss = -surrogate.mean() - regularizer * ent;
+    policy_->ZeroGrad();
+    loss.backward();
+    ClipGradNorm(policy_->flat_grad(), ppo_.max_grad_norm);
+    policy_optimizer_.Step(policy_->flat(), policy_->flat_grad());
+    policy_loss += loss.item<double>();
+    entropy += ent.item<double>();
+    {
+      torch::NoGradGuard no_grad;
+      // (r - 1) - log r: an unbiased, non-negative estimate of KL(old || new)
+      kl += ((ratio - 1.0) - log_ratio).mean().item<double>();
+      clipped += ((ratio - 1.0).abs() > ppo_.clip_range).to(torch::kFloat32).mean().item<double>();
+    }
+    if (uses_value_network()) value_loss += ValueStep(s, rows);
+    ++count;
+  }
+  Metrics m;
+  m.Set("policy_loss", policy_loss / count);
+  if (uses_value_network()) m.Set("value_loss", value_loss / count);
+  m.Set("entropy", entropy / count);
+  m.Set("approx_kl", kl / count);
+  m.Set("clip_fraction", clipped / count);
+  return m;
+}
+
+Metrics PpoLearner::OptimizePolicy(const PolicySamples& s) {
+  Metrics last;
+  for (int64_t e = 0; e < ppo_.epochs; ++e) last = Epoch(s);
+  return last;  // the last epoch's means (approx_kl then says how far the policy moved)
+}
+
+void PpoLearner::SaveExtra(torch::serialize::OutputArchive& archive) const {
+  torch::serialize::OutputArchive sub;
+  policy_optimizer_.Save(sub);
+  archive.write("policy_optimizer", sub);
+}
+
+void PpoLearner::LoadExtra(torch::serialize::InputArchive& archive) {
+  torch::serialize::InputArchive sub;
+  archive.read("policy_optimizer", sub);
+  policy_optimizer_.Load(sub);
+}
+
+}  // namespace manyworlds::agents

@@ -1,0 +1,45 @@
+// Proximal policy optimisation (clipped surrogate; Schulman et al. 2017) on
+// the shared policy-gradient base. Per iteration: `epochs` passes over the
+// rollout in shuffled minibatches; each minibatch takes one Adam step of the
+// policy on
+//   -mean(min(r A, clip(r, 1 - clip_range, 1 + clip_range) A)) - c H
+// (r = pi(a|s) / pi_old(a|s), c = entropy_coeff with entropy_method
+// "regularized"), then, with the MLP baseline, one Adam step of the value
+// network on mean((V(s) - R)^2) (garage optimises the two with separate
+// optimizers too). max_grad_norm > 0 clips the policy gradient's norm.
+// MT-PPO is this with several tasks and architecture "mlp" (one-hot id).
+#ifndef MANYWORLDS_AGENTS_PPO_PPO_H_
+#define MANYWORLDS_AGENTS_PPO_PPO_H_
+
+#include <cstdint>
+
+#include "manyworlds/agents/policy_gradient/policy_gradient.h"
+#include "manyworlds/agents/ppo/ppo_config.h"
+
+namespace manyworlds::agents {
+
+
+
+class PpoLearner : public PolicyGradientLearner {
+ public:
+  PpoLearner(const PpoConfig& config, const PolicySpaces& spaces);
+  const PpoConfig& config() const { return ppo_; }
+
+  // One pass of minibatch steps (policy and value) over the samples: the
+  // unit `bench agent --algo ppo` times.
+  Metrics Epoch(const PolicySamples& samples);
+
+ protected:
+  const char* algo_name() const override { return "ppo"; }
+  Metrics OptimizePolicy(const PolicySamples& samples) override;
+  void SaveExtra(torch::serialize::OutputArchive& archive) const override;
+  void LoadExtra(torch::serialize::InputArchive& archive) override;
+
+ private:
+  PpoConfig ppo_;
+  nn::FlatAdam policy_optimizer_;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_PPO_PPO_H_

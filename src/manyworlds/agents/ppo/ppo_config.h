@@ -1,0 +1,33 @@
+// Configuration of PPO (see ppo.h); torch-free so that configs can be
+// read and validated without the networks.
+#ifndef MANYWORLDS_AGENTS_PPO_PPO_CONFIG_H_
+#define MANYWORLDS_AGENTS_PPO_PPO_CONFIG_H_
+
+#include <cstdint>
+
+#include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
+
+namespace manyworlds::agents {
+
+struct PpoConfig : PolicyGradientConfig {
+  double lr = 2.5e-4;  // policy Adam (garage torch PPO)
+  int64_t epochs = 10;
+  int64_t minibatch_size = 64;
+  double clip_range = 0.2;
+  double max_grad_norm = 0.0;  // 0 = no clipping (garage's default)
+
+  template <class F>
+  void VisitFields(F&& f) {
+    PolicyGradientConfig::VisitFields(f);
+    f("lr", lr);
+    f("epochs", epochs);
+    f("minibatch_size", minibatch_size);
+    f("clip_range", clip_range);
+    f("max_grad_norm", max_grad_norm);
+  }
+  void Validate() const;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_PPO_PPO_CONFIG_H_

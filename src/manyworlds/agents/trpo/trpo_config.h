@@ -1,0 +1,37 @@
+// Configuration of TRPO (see trpo.h); torch-free so that configs can be
+// read and validated without the networks.
+#ifndef MANYWORLDS_AGENTS_TRPO_TRPO_CONFIG_H_
+#define MANYWORLDS_AGENTS_TRPO_TRPO_CONFIG_H_
+
+#include <cstdint>
+
+#include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
+
+namespace manyworlds::agents {
+
+struct TrpoConfig : PolicyGradientConfig {
+  double max_kl = 0.01;
+  int64_t cg_iters = 10;
+  double cg_damping = 1e-5;  // garage's hvp reg_coeff
+  double backtrack_ratio = 0.8;
+  int64_t max_backtracks = 15;
+  int64_t vf_epochs = 10;
+  int64_t vf_minibatch_size = 64;
+
+  template <class F>
+  void VisitFields(F&& f) {
+    PolicyGradientConfig::VisitFields(f);
+    f("max_kl", max_kl);
+    f("cg_iters", cg_iters);
+    f("cg_damping", cg_damping);
+    f("backtrack_ratio", backtrack_ratio);
+    f("max_backtracks", max_backtracks);
+    f("vf_epochs", vf_epochs);
+    f("vf_minibatch_size", vf_minibatch_size);
+  }
+  void Validate() const;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_TRPO_TRPO_CONFIG_H_

@@ -1,0 +1,71 @@
+#include "manyworlds/experiments/collector.h"
+
+#include <algorithm>
+
+#include "manyworlds/core/rng.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+// The round stream of experiment.seed (unchanged since the first trainer, so
+// runs keep their numbers).
+constexpr uint64_t kRoundStream = 0x726f756e64;  // "round"
+
+}  // namespace
+
+void PolicyToEnvActions(const float* policy, int64_t rows, const EnvFacts& facts, float* out) {
+  if (facts.num_actions > 0) {
+    std::copy(policy, policy + rows, out);
+    return;
+  }
+  const int64_t a = facts.action_dim;
+  for (int64_t r = 0; r < rows; ++r) {
+    for (int64_t j = 0; j < a; ++j) {
+      const float lo = facts.action_low[j];
+      const float hi = facts.action_high[j];
+      const float u = std::clamp(policy[r * a + j], -1.0f, 1.0f);
+      out[r * a + j] = lo + 0.5f * (u + 1.0f) * (hi - lo);
+    }
+  }
+}
+
+Collector::Collector(const TaskSet& tasks, const Registry& registry, const EnvFacts& facts,
+                     int64_t envs_per_task, int num_threads)
+    : tasks_(tasks),
+      facts_(facts),
+      envs_per_task_(envs_per_task),
+      num_envs_(tasks.size() * envs_per_task),
+      tracker_(tasks.size() * envs_per_task, static_cast<int64_t>(facts.info_size),
+               facts.success_index) {
+  std::vector<std::unique_ptr<Env>> envs;
+  for (int64_t i = 0; i < num_envs_; ++i) {
+    env_tasks_.push_back(i / envs_per_task);
+    envs.push_back(tasks.MakeEnv(i / envs_per_task, registry));
+  }
+  exec_ = std::make_unique<BatchedExecutor>(
+      std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
+  env_actions_.assign(num_envs_ * facts.action_dim, 0.0f);
+}
+
+void Collector::BeginRound(uint64_t seed, int64_t round) {
+  const uint64_t base = MixSeed(MixSeed(seed, kRoundStream), round);
+  for (int64_t i = 0; i < num_envs_; ++i) {
+    Rng r(MixSeed(base, i));
+    Env& env = exec_->env(static_cast<int>(i));
+    env.Seed(r.NextU64());
+    env.SeedTask(r.NextU64());
+    const auto& variations = tasks_.tasks[env_tasks_[i]].variations;
+    const uint64_t v = variations.size() > 1 ? r.UniformInt(variations.size()) : 0;
+    exec_->SetTaskState(static_cast<int>(i), variations[v]);
+    tracker_.Restart(i);
+  }
+}
+
+void Collector::Step(std::span<const float> policy_actions, EpisodeTotals& totals) {
+  PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
+  exec_->Step(env_actions_);
+  tracker_.Step(exec_->rewards(), exec_->terminated(), exec_->truncated(), exec_->info(),
+                [&](const EpisodeRecord& r) { totals.Add(r); });
+}
+
+}  // namespace manyworlds::experiments

@@ -1,0 +1,76 @@
+// Where envs meet learners: a batched executor over a task set's training
+// envs, the round schedule, action mapping and episode accounting.
+//
+// Envs: envs_per_task per task, env i runs task i / envs_per_task. Rounds:
+// at the start of round r every env is re-seeded from (seed, r, env) and
+// reset on a variation of its task drawn from the same stream, so nothing of
+// a previous round carries over and a run can be checkpointed at any round
+// boundary and resumed exactly.
+//
+// Actions: policies act in their own units (agents/actor.h); Step clips Box
+// actions to [-1, 1] and scales them to the env's bounds, and passes
+// Discrete indices through.
+#ifndef MANYWORLDS_EXPERIMENTS_COLLECTOR_H_
+#define MANYWORLDS_EXPERIMENTS_COLLECTOR_H_
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "manyworlds/core/executor.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/experiments/episode_tracker.h"
+#include "manyworlds/experiments/task_set.h"
+
+namespace manyworlds::experiments {
+
+// Training statistics of the episodes that ended in a stretch of steps.
+struct EpisodeTotals {
+  double return_sum = 0.0;
+  double success_sum = 0.0;
+  int64_t episodes = 0;
+  void Add(const EpisodeRecord& r) {
+    return_sum += r.episode_return;
+    success_sum += r.success ? 1.0 : 0.0;
+    ++episodes;
+  }
+};
+
+class Collector {
+ public:
+  Collector(const TaskSet& tasks, const Registry& registry, const EnvFacts& facts,
+            int64_t envs_per_task, int num_threads);
+
+  int64_t num_envs() const { return num_envs_; }
+  int64_t envs_per_task() const { return envs_per_task_; }
+  const EnvFacts& facts() const { return facts_; }
+  // Task of each env, (num_envs) values in [0, num_tasks).
+  const std::vector<int64_t>& env_tasks() const { return env_tasks_; }
+  BatchedExecutor& executor() { return *exec_; }
+
+  void BeginRound(uint64_t seed, int64_t round);
+  // Current observations (num_envs x obs_dim); valid until the next Step.
+  std::span<const float> observations() const { return exec_->env_obs(); }
+  // Steps every env with one row of policy actions each (num_envs x
+  // action_dim) and accounts the episodes that ended into `totals`.
+  void Step(std::span<const float> policy_actions, EpisodeTotals& totals);
+
+ private:
+  const TaskSet& tasks_;
+  EnvFacts facts_;
+  int64_t envs_per_task_;
+  int64_t num_envs_;
+  std::vector<int64_t> env_tasks_;
+  std::unique_ptr<BatchedExecutor> exec_;
+  EpisodeTracker tracker_;
+  std::vector<float> env_actions_;
+};
+
+// Maps policy actions to env actions: Box rows clipped to [-1, 1] and scaled
+// to [low, high]; Discrete indices copied.
+void PolicyToEnvActions(const float* policy, int64_t rows, const EnvFacts& facts, float* out);
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_COLLECTOR_H_

@@ -1,0 +1,211 @@
+// The off-policy family's loop (MTRL's multi-task SAC loop). Each step of a
+// round:
+//  1. actions: uniform random in (-1, 1) during the first warmup_steps steps,
+//     then sampled from the learner (one batched forward pass, inference mode);
+//  2. step the envs; store one transition per env with done = terminated (a
+//     time-limit cut bootstraps) and next_obs = the episode's last
+//     observation where it ended;
+//  3. after warm-up, gradient updates so that updates = floor((step -
+//     warmup_steps) * updates_per_step), each on a replay batch.
+// Checkpoint files: learner.pt (learner, replay and torch generators),
+// replay.bin; state.json gets the warm-up action generator.
+#include <chrono>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "manyworlds/agents/replay_buffer.h"
+#include "manyworlds/agents/sac.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/rng.h"
+#include "manyworlds/experiments/algorithm.h"
+#include "manyworlds/experiments/checkpoint_io.h"
+#include "manyworlds/experiments/metric_means.h"
+#include "manyworlds/rl/generator.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+
+// Streams of experiment.seed (unchanged since the first trainer, so runs
+// keep their numbers).
+constexpr uint64_t kAgentStream = 0x6167656e74;     // "agent"
+constexpr uint64_t kActionStream = 0x616374696f6e;  // "action"
+constexpr uint64_t kReplayStream = 0x7265706c6179;  // "replay"
+
+class OffPolicyAlgorithm : public Algorithm {
+ public:
+  explicit OffPolicyAlgorithm(const AlgorithmSetup& s)
+      : config_(s.config),
+        facts_(s.facts),
+        num_envs_(s.num_envs),
+        num_tasks_(s.num_tasks),
+        round_length_(s.round_length) {
+    const uint64_t seed = config_.experiment.seed;
+    agents::SacConfig agent = config_.agent.sac();
+    agent.seed = MixSeed(MixSeed(seed, kAgentStream), agent.seed);
+    batch_size_ = config_.TotalBatchSize(num_tasks_);
+    sampling_ = agents::ParseReplaySampling(config_.replay.sampling);
+    if (sampling_ == agents::ReplaySampling::kBalanced && batch_size_ % num_tasks_ != 0) {
+      throw ConfigError("balanced replay sampling needs the batch size (" +
+                        std::to_string(batch_size_) +
+                        ") to be a multiple of the number of tasks (" +
+                        std::to_string(num_tasks_) + "); set experiment.batch_size");
+    }
+    if (config_.replay.capacity < num_tasks_) {
+      throw ConfigError("'replay.capacity' (" + std::to_string(config_.replay.capacity) +
+                        ") must be at least the number of tasks (" +
+                        std::to_string(num_tasks_) + ")");
+    }
+    learner_ = std::make_unique<agents::SacLearner>(agent, facts_.obs_dim, facts_.action_dim,
+                                                    num_tasks_);
+    replay_ = std::make_unique<agents::ReplayBuffer>(config_.replay.capacity, facts_.obs_dim,
+                                                     facts_.action_dim, num_tasks_);
+    replay_generator_ = rl::MakeGenerator(MixSeed(seed, kReplayStream));
+    action_rng_.Seed(MixSeed(seed, kActionStream));
+    env_task_ = torch::empty({num_envs_}, torch::kInt64);
+    for (int64_t i = 0; i < num_envs_; ++i) env_task_[i] = i / config_.env.envs_per_task;
+    obs_.assign(num_envs_ * facts_.obs_dim, 0.0f);
+    unit_.assign(num_envs_ * facts_.action_dim, 0.0f);
+  }
+
+  int64_t rounds_per_iteration() const override { return 1; }
+  agents::Actor& actor() override { return learner_->AsActor(); }
+  int64_t updates() const override { return updates_; }
+
+  nlohmann::json TrainIteration(Collector& collector, int64_t round, int64_t step) override {
+    const int64_t warmup = config_.experiment.warmup_steps;
+    const double utd = config_.experiment.updates_per_step;
+    double t_act = 0.0, t_env = 0.0, t_update = 0.0;
+    EpisodeTotals totals;
+    MetricMeans means;
+    collector.BeginRound(config_.experiment.seed, round);
+    BatchedExecutor& exec = collector.executor();
+    const int64_t d = facts_.obs_dim, a = facts_.action_dim;
+    for (int64_t s = 0; s < round_length_; ++s) {
+      const auto t0 = Clock::now();
+      ChooseActions(collector, step);
+      const auto t1 = Clock::now();
+      collector.Step(unit_, totals);
+      const auto next = exec.env_obs();
+      const auto final_obs = exec.final_env_obs();
+      const auto rewards = exec.rewards();
+      const auto terminated = exec.terminated();
+      const auto truncated = exec.truncated();
+      for (int64_t i = 0; i < num_envs_; ++i) {
+        const bool ended = terminated[i] || truncated[i];
+        const float* next_row = (ended ? final_obs.data() : next.data()) + i * d;
+        replay_->Add(collector.env_tasks()[i], {obs_.data() + i * d, static_cast<size_t>(d)},
+                     {unit_.data() + i * a, static_cast<size_t>(a)}, rewards[i],
+                     {next_row, static_cast<size_t>(d)}, terminated[i]);
+      }
+      const auto t2 = Clock::now();
+      ++step;
+      if (step > warmup) {
+        const double exact = static_cast<double>(step - warmup) * utd;
+        const double nearest = std::round(exact);
+        const auto target = static_cast<int64_t>(
+            std::abs(exact - nearest) < 1e-9 ? nearest : std::floor(exact));
+        while (updates_ < target) {
+          const agents::Batch& batch = replay_->Sample(batch_size_, sampling_, replay_generator_);
+          means.Add(learner_->Update(batch));
+          ++updates_;
+        }
+      }
+      const auto t3 = Clock::now();
+      t_act += Seconds(t1 - t0);
+      t_env += Seconds(t2 - t1);
+      t_update += Seconds(t3 - t2);
+    }
+    nlohmann::json row = {
+        {"time_act_s", t_act},
+        {"time_env_s", t_env},
+        {"time_update_s", t_update},
+        {"buffer_size", replay_->size()},
+        {"train_episodes", totals.episodes},
+        {"train_return", totals.episodes > 0 ? nlohmann::json(totals.return_sum / totals.episodes)
+                                             : nlohmann::json()},
+        {"train_success", totals.episodes > 0 && facts_.success_index >= 0
+                              ? nlohmann::json(totals.success_sum / totals.episodes)
+                              : nlohmann::json()},
+    };
+    means.WriteTo(row);
+    return row;
+  }
+
+  void Save(const std::filesystem::path& dir, nlohmann::json& state) const override {
+    WriteArchive(dir / "learner.pt", [&](torch::serialize::OutputArchive& archive) {
+      learner_->Save(archive);
+      archive.write("replay_generator", rl::GeneratorState(replay_generator_));
+      archive.write("torch_generator", rl::GeneratorState(rl::DefaultGenerator()));
+    });
+    replay_->SaveFile(dir / "replay.bin");
+    nlohmann::json rng = nlohmann::json::array();
+    for (uint64_t word : action_rng_.state()) rng.push_back(std::to_string(word));
+    state["action_rng"] = rng;
+  }
+
+  void Load(const std::filesystem::path& dir, const nlohmann::json& state) override {
+    Rng::State rng{};
+    try {
+      const auto& words = state.at("action_rng");
+      if (!words.is_array() || words.size() != rng.size()) throw Error("action_rng");
+      for (size_t i = 0; i < rng.size(); ++i) rng[i] = std::stoull(words[i].get<std::string>());
+    } catch (const std::exception& e) {
+      throw Error("checkpoint '" + dir.string() + "': malformed state.json (" + e.what() + ")");
+    }
+    ReadArchive(dir / "learner.pt", [&](torch::serialize::InputArchive& archive) {
+      learner_->Load(archive);
+      torch::Tensor replay_state, torch_state;
+      archive.read("replay_generator", replay_state);
+      archive.read("torch_generator", torch_state);
+      rl::SetGeneratorState(replay_generator_, replay_state);
+      rl::SetGeneratorState(rl::DefaultGenerator(), torch_state);
+    });
+    replay_->LoadFile(dir / "replay.bin");
+    action_rng_.set_state(rng);
+    updates_ = state.value("updates", int64_t{0});
+  }
+
+  void LoadPolicy(const std::filesystem::path& dir) override {
+    ReadArchive(dir / "learner.pt",
+                [&](torch::serialize::InputArchive& archive) { learner_->Load(archive); });
+  }
+
+ private:
+  void ChooseActions(Collector& collector, int64_t step) {
+    const auto current = collector.observations();
+    std::copy(current.begin(), current.end(), obs_.begin());
+    if (step < config_.experiment.warmup_steps) {
+      for (float& a : unit_) a = static_cast<float>(action_rng_.Uniform(-1.0, 1.0));
+      return;
+    }
+    const torch::Tensor o =
+        torch::from_blob(obs_.data(), {num_envs_, facts_.obs_dim}, torch::kFloat32);
+    const torch::Tensor a = learner_->Act(o, env_task_, /*deterministic=*/false).contiguous();
+    std::copy(a.data_ptr<float>(), a.data_ptr<float>() + a.numel(), unit_.begin());
+  }
+
+  const TrainConfig& config_;
+  EnvFacts facts_;
+  int64_t num_envs_, num_tasks_, round_length_;
+  int64_t batch_size_ = 0;
+  agents::ReplaySampling sampling_ = agents::ReplaySampling::kBalanced;
+  std::unique_ptr<agents::SacLearner> learner_;
+  std::unique_ptr<agents::ReplayBuffer> replay_;
+  mutable at::Generator replay_generator_;
+  Rng action_rng_;
+  torch::Tensor env_task_;
+  std::vector<float> obs_, unit_;
+  int64_t updates_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup) {
+  return std::make_unique<OffPolicyAlgorithm>(setup);
+}
+
+}  // namespace manyworlds::experiments
