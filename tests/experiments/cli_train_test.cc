@@ -207,3 +207,49 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
 
 }  // namespace
 }  // namespace manyworlds
+
+namespace manyworlds {
+namespace {
+
+TEST(CliTrainTest, AlgorithmErrorsAreOneLineWithExitCode2) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  // an unknown algorithm names the valid ones
+  RunResult r = RunCli("train tiny.yaml agent.algo=ppx", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+  EXPECT_NE(r.err.find("sac, ppo, trpo"), std::string::npos) << r.err;
+  // a continuous-only algorithm on a Discrete env
+  r = RunCli("train tiny.yaml env.id=cartpole env.options={}", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+  EXPECT_NE(r.err.find("Discrete"), std::string::npos) << r.err;
+  // a key of another algorithm
+  r = RunCli("train tiny.yaml agent.algo=ppo", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+  EXPECT_NE(r.err.find("agent.batch_size"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "runs" / "tiny"));
+}
+
+TEST(CliTrainTest, PpoTrainsEvaluatesAndResumesFromTheCommandLine) {
+  const fs::path dir = ScratchDir();
+  const std::string config = std::string(MANYWORLDS_TEST_SOURCE_DIR) + "/configs/cartpole_ppo.yaml";
+  const std::string args = "'" + config + "' experiment.steps_per_task=1500 " +
+                           "experiment.eval_every=500 experiment.checkpoint_every=500 " +
+                           "experiment.run_dir=runs/ppo";
+  RunResult r = RunCli("train " + args + " --stop-after 500", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  r = RunCli("train --resume runs/ppo", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("cartpole/3"), std::string::npos) << r.out;
+  r = RunCli("eval runs/ppo --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto json = nlohmann::json::parse(r.out);
+  EXPECT_EQ(json["step"], 1500);
+  EXPECT_EQ(json["per_task"].size(), 4u);
+  EXPECT_TRUE(fs::exists(dir / "runs" / "ppo" / "summary.json"));
+}
+
+}  // namespace
+}  // namespace manyworlds

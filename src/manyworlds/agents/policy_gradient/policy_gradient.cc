@@ -151,7 +151,8 @@ Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
   if (config_.center_advantages && b > 1) adv = (adv - adv.mean()) / (adv.std() + 1e-8);
   s.advantages = adv;
   metrics.Set("explained_variance", ExplainedVariance(rollout.values.reshape({b}), s.returns));
-  for (const auto& [name, value] : OptimizePolicy(s).items()) metrics.Set(name, value);
+  const Metrics optimized = OptimizePolicy(s);
+  for (const auto& [name, value] : optimized.items()) metrics.Set(name, value);
   ++num_updates_;
   return metrics;
 }

@@ -1,0 +1,185 @@
+// The on-policy family end to end through the Trainer: seeded learning runs
+// with real thresholds (small problems, seconds each), exact resume for PPO
+// and TRPO, and the errors a config gets when the algorithm cannot run it.
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/envs/all.h"
+#include "manyworlds/experiments/algorithms.h"
+#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/trainer.h"
+#include "manyworlds/rl/generator.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() /
+                 ("mw_on_policy_test_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string SourceDir() {
+  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
+  return dir != nullptr ? dir : ".";
+}
+
+TrainConfig FromFile(const std::string& name, const fs::path& run_dir,
+                     std::vector<std::string> overrides = {}) {
+  overrides.push_back("experiment.run_dir=" + run_dir.string());
+  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / name, overrides);
+  c.Validate();
+  return c;
+}
+
+EvalResult Train(const TrainConfig& c) {
+  Trainer trainer = Trainer::Create(c);
+  const TrainSummary s = trainer.Run();
+  EXPECT_TRUE(s.finished);
+  return *s.final_eval;
+}
+
+TEST(OnPolicyLearningTest, PpoSolvesMultiTaskCartPole) {
+  // four cart-poles with different physics, one-hot task id, categorical policy
+  const EvalResult r = Train(FromFile("cartpole_ppo.yaml", Scratch("cartpole")));
+  ASSERT_EQ(r.per_task.size(), 4u);
+  for (const auto& t : r.per_task) EXPECT_GE(t.mean_return, 475.0) << t.task;  // limit 500
+}
+
+TEST(OnPolicyLearningTest, TrpoSolvesPointNavigation) {
+  const EvalResult r = Train(FromFile("point_nav_trpo.yaml", Scratch("trpo"),
+                                      {"experiment.steps_per_task=20000"}));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);
+  EXPECT_GT(r.mean_return, -2.0);  // a random policy: about -50
+}
+
+TEST(OnPolicyLearningTest, PpoSolvesPointNavigation) {
+  const EvalResult r = Train(FromFile(
+      "point_nav_trpo.yaml", Scratch("ppo_nav"),
+      {"agent.algo=ppo", "agent.lr=1e-3", "experiment.steps_per_task=20000"}));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);
+  EXPECT_GT(r.mean_return, -2.0);
+}
+
+TEST(OnPolicyLearningTest, CategoricalPpoBeatsTheUniformPolicyOnABandit) {
+  TrainConfig c = FromFile("cartpole_ppo.yaml", Scratch("bandit"),
+                           {"env.id=bandit", "env.num_tasks=1", "env.envs_per_task=4",
+                            "experiment.steps_per_task=3000", "experiment.eval_every=0"});
+  const EvalResult trained = Train(c);
+  // the uniform policy on the same task and episodes
+  const RunInfo run = RunInfo::Read(c.experiment.run_dir);
+  Evaluator evaluator(run.tasks, DefaultRegistry(), c.experiment.eval_episodes, 7, 1);
+  at::Generator gen = rl::MakeGenerator(3);
+  const EvalResult uniform = evaluator.Run([&](const torch::Tensor& obs, const torch::Tensor&) {
+    return torch::randint(0, 5, {obs.size(0), 1}, gen, torch::kInt64).to(torch::kFloat32);
+  });
+  const auto& arms = run.tasks.tasks[0].variations[0].params["probs"];
+  double best = 0;
+  for (const auto& p : arms) best = std::max(best, p.get<double>());
+  // 100 pulls per episode: the greedy-best arm earns 100 * best
+  EXPECT_GT(trained.mean_return, uniform.mean_return + 0.5 * (100 * best - uniform.mean_return))
+      << "uniform " << uniform.mean_return << ", best arm " << 100 * best;
+}
+
+std::vector<nlohmann::json> Rows(const fs::path& file) {
+  std::vector<nlohmann::json> rows = ReadJsonLines(file);
+  for (auto& row : rows) {
+    for (const char* key : {"wall_s", "env_steps_per_s", "updates_per_s", "time_act_s",
+                            "time_env_s", "time_update_s"}) {
+      row.erase(key);
+    }
+  }
+  return rows;
+}
+
+void ExpectExactResume(const std::string& config_file, std::vector<std::string> overrides,
+                       const std::string& name) {
+  const fs::path a = Scratch(name + "_a"), b = Scratch(name + "_b");
+  overrides.push_back("experiment.checkpoint_every=1000");
+  overrides.push_back("experiment.keep_checkpoints=0");
+  {
+    Trainer full = Trainer::Create(FromFile(config_file, a, overrides));
+    ASSERT_TRUE(full.Run().finished);
+  }
+  {
+    Trainer first = Trainer::Create(FromFile(config_file, b, overrides));
+    TrainCallbacks stop;
+    stop.stop_after_step = 1000;
+    ASSERT_FALSE(first.Run(stop).finished);
+  }
+  {
+    Trainer resumed = Trainer::Resume(b);
+    EXPECT_GT(resumed.step(), 0);
+    ASSERT_TRUE(resumed.Run().finished);
+  }
+  EXPECT_EQ(Rows(a / "metrics.jsonl"), Rows(b / "metrics.jsonl"));
+  std::vector<nlohmann::json> ea = ReadJsonLines(a / "eval.jsonl");
+  std::vector<nlohmann::json> eb = ReadJsonLines(b / "eval.jsonl");
+  for (auto* rows : {&ea, &eb}) {
+    for (auto& row : *rows) row.erase("wall_s");
+  }
+  EXPECT_EQ(ea, eb);
+  ASSERT_GE(ea.size(), 2u);
+}
+
+TEST(OnPolicyResumeTest, PpoResumesExactly) {
+  ExpectExactResume("cartpole_ppo.yaml",
+                    {"experiment.steps_per_task=2500", "experiment.eval_every=500"}, "ppo");
+}
+
+TEST(OnPolicyResumeTest, TrpoResumesExactly) {
+  ExpectExactResume("point_nav_trpo.yaml",
+                    {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "trpo");
+}
+
+std::string ErrorOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors) {
+  const std::string unknown = ErrorOf([] { TrainConfig::Load(std::nullopt, {"agent.algo=ppp"}); });
+  EXPECT_NE(unknown.find("ppo"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("sac, ppo, trpo"), std::string::npos) << unknown;
+  // SAC's keys are not PPO's
+  const std::string foreign =
+      ErrorOf([] { TrainConfig::Load(std::nullopt, {"agent.algo=ppo", "agent.actor_lr=1"}); });
+  EXPECT_NE(foreign.find("agent.actor_lr"), std::string::npos) << foreign;
+  // off-policy keys set for an on-policy algorithm would be ignored: refused
+  TrainConfig ppo = TrainConfig::Load(std::nullopt, {"agent.algo=ppo", "env.id=cartpole",
+                                                     "experiment.warmup_steps=10"});
+  EXPECT_NE(ErrorOf([&] { ppo.Validate(); }).find("warmup_steps"), std::string::npos);
+  // SAC cannot act in a Discrete env
+  TrainConfig sac = TrainConfig::Load(std::nullopt, {"env.id=cartpole"});
+  sac.experiment.run_dir = Scratch("sac_discrete").string();
+  const std::string discrete = ErrorOf([&] { Trainer::Create(sac); });
+  EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
+  EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
+  // the registry lists every algorithm with its family
+  ASSERT_EQ(Algorithms().size(), 3u);
+  EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
+  // the resolved config names its algorithm and round-trips
+  const TrainConfig trpo = TrainConfig::Load(std::nullopt, {"agent.algo=trpo"});
+  EXPECT_EQ(trpo.ToJson()["agent"]["algo"], "trpo");
+  EXPECT_EQ(TrainConfig::FromJson(trpo.ToJson()).ToJson(), trpo.ToJson());
+}
+
+}  // namespace
+}  // namespace manyworlds::experiments
