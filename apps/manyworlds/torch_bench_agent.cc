@@ -1,6 +1,9 @@
-// manyworlds bench agent --agent sac: full SAC updates per second
-// (agents::MeasureSacUpdates) on random batches, for a network and task
-// configuration, with the thread configuration used.
+// manyworlds bench agent --algo sac|ppo|trpo: full SAC updates per second
+// (agents::MeasureSacUpdates) on random batches, or on-policy optimisation
+// throughput (samples pushed through one PPO epoch: policy and value forward,
+// backward and Adam over minibatches; for TRPO one whole policy step with
+// its conjugate gradient and line search plus the value fit), with the
+// thread configuration used.
 #include <iostream>
 #include <memory>
 #include <string>
@@ -8,7 +11,12 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include <algorithm>
+#include <chrono>
+
+#include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/agents/sac_timing.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
@@ -20,6 +28,7 @@ namespace {
 struct BenchAgentArgs {
   std::string agent = "sac";
   int batch = 128;
+  int minibatch = 1000;
   int hidden = 400;
   int layers = 3;
   int obs_dim = 39;
@@ -44,10 +53,119 @@ std::string Join(const std::vector<std::string>& names) {
   return out;
 }
 
+// Samples per second through the on-policy optimisation on random data.
+void RunBenchOnPolicy(const BenchAgentArgs& args) {
+  agents::PolicySpaces spaces;
+  spaces.obs_dim = args.obs_dim;
+  spaces.action_dim = args.action_dim;
+  spaces.num_tasks = args.tasks;
+  std::unique_ptr<agents::PolicyGradientLearner> learner;
+  agents::PpoLearner* ppo = nullptr;
+  auto common = [&](agents::PolicyGradientConfig& c) {
+    c.hidden_dim = args.hidden;
+    c.num_layers = args.layers;
+    c.vf_hidden_dim = args.hidden;
+    c.vf_num_layers = args.layers;
+    c.seed = args.seed;
+  };
+  if (args.agent == "ppo") {
+    agents::PpoConfig c;
+    common(c);
+    c.minibatch_size = args.minibatch;
+    auto p = std::make_unique<agents::PpoLearner>(c, spaces);
+    ppo = p.get();
+    learner = std::move(p);
+  } else {
+    agents::TrpoConfig c;
+    common(c);
+    c.vf_minibatch_size = args.minibatch;
+    c.vf_epochs = 1;
+    learner = std::make_unique<agents::TrpoLearner>(c, spaces);
+  }
+  if (args.torch_threads > 0 || args.blas_threads > 0) {
+    nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
+  }
+  torch::manual_seed(static_cast<uint64_t>(args.seed));
+  const int64_t b = args.batch;
+  rl::RolloutBuffer rollout(1, b, args.obs_dim, args.action_dim);
+  rollout.obs.copy_(torch::randn(rollout.obs.sizes()));
+  rollout.task_index.copy_(torch::randint(0, args.tasks, {b}, torch::kInt64));
+  {
+    agents::ActorState state;
+    const agents::ActOutput out = learner->Act(rollout.obs[0], rollout.task_index, state,
+                                               agents::ActMode::kSample);
+    rollout.actions[0].copy_(out.action);
+    rollout.log_probs[0].copy_(out.log_prob);
+  }
+  rollout.rewards.copy_(torch::randn(rollout.rewards.sizes()));
+  rollout.ended.fill_(1.0f);
+  using Clock = std::chrono::steady_clock;
+  std::vector<double> samples;
+  // PPO: one epoch = the unit; TRPO: one whole update (policy step + one value epoch)
+  agents::PolicySamples ppo_samples;
+  if (ppo != nullptr) {
+    const torch::Tensor tasks = rollout.FlatTasks();
+    ppo_samples.x = ppo->NetworkInput(rollout.FlatObs(), tasks);
+    ppo_samples.actions = rollout.FlatActions();
+    ppo_samples.log_probs = rollout.log_probs.reshape({b});
+    ppo_samples.advantages = torch::randn({b});
+    ppo_samples.returns = torch::randn({b});
+    ppo_samples.episode_steps = torch::zeros({b});
+  }
+  auto once = [&] {
+    if (ppo != nullptr) {
+      ppo->Epoch(ppo_samples);
+    } else {
+      learner->Update(rollout);
+    }
+  };
+  once();  // warm-up
+  for (int r = 0; r < args.repeats; ++r) {
+    const auto t0 = Clock::now();
+    for (int u = 0; u < args.updates; ++u) once();
+    const double s = std::chrono::duration<double>(Clock::now() - t0).count();
+    samples.push_back(static_cast<double>(b) * args.updates / s);
+  }
+  std::vector<double> sorted = samples;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const nn::ThreadInfo threads = nn::CurrentThreads();
+  if (args.json) {
+    PrintJson({{"agent", args.agent},
+               {"batch", args.batch},
+               {"minibatch", args.minibatch},
+               {"hidden", args.hidden},
+               {"layers", args.layers},
+               {"obs_dim", args.obs_dim},
+               {"action_dim", args.action_dim},
+               {"tasks", args.tasks},
+               {"unit", ppo != nullptr ? "one epoch (policy + value, minibatches)"
+                                       : "one update (CG policy step + one value epoch)"},
+               {"units_per_repeat", args.updates},
+               {"repeats", args.repeats},
+               {"samples_per_s", median},
+               {"samples", samples},
+               {"threads",
+                {{"torch_intra_op", threads.torch_intra_op},
+                 {"blas", threads.blas_threads},
+                 {"blas_core", threads.blas_core}}}});
+    return;
+  }
+  std::cout << args.agent << ": " << Fixed(median, 0) << " samples/s (median of "
+            << samples.size() << " repeats), batch " << b << ", minibatch " << args.minibatch
+            << ", " << args.layers << " x " << args.hidden << " tanh, obs " << args.obs_dim
+            << ", action " << args.action_dim << "\n";
+}
+
 void RunBenchAgent(const BenchAgentArgs& args) {
+  if (args.agent == "ppo" || args.agent == "trpo") {
+    RunBenchOnPolicy(args);
+    return;
+  }
   if (args.agent != "sac") {
-    throw ConfigError("--agent: unknown agent '" + args.agent + "'" +
-                      SuggestNearest(args.agent, {"sac"}) + "; allowed: sac");
+    throw ConfigError("--algo: unknown algorithm '" + args.agent + "'" +
+                      SuggestNearest(args.agent, {"sac", "ppo", "trpo"}) +
+                      "; allowed: sac, ppo, trpo");
   }
   agents::SacConfig config;
   config.batch_size = args.batch;
@@ -126,8 +244,15 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       "Agent updates per second: full SAC updates (critic, actor, temperature, targets) on\n"
       "random batches of the given sizes; the observation carries no task id, the\n"
       "learner conditions on the task index per --architecture");
-  cmd->add_option("--agent", args->agent, "agent to time (allowed: sac)")->capture_default_str();
-  cmd->add_option("--batch", args->batch, "batch size")->capture_default_str()->check(AtLeastOne());
+  cmd->add_option("--algo,--agent", args->agent, "algorithm to time: sac, ppo, trpo")
+      ->capture_default_str();
+  cmd->add_option("--batch", args->batch, "batch size (ppo/trpo: samples in the rollout)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--minibatch", args->minibatch,
+                  "ppo: minibatch size of the epoch; trpo: of the value fit")
+      ->capture_default_str()
+      ->check(AtLeastOne());
   cmd->add_option("--hidden", args->hidden, "hidden width of actor and critics")
       ->capture_default_str()
       ->check(AtLeastOne());

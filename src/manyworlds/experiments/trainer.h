@@ -1,40 +1,36 @@
-// Multi-task SAC training (MTRL's loop, mtenv-mtrl.md B6) with evaluation,
-// logs and exact checkpoints.
+// Training runs for every algorithm family, with evaluation, logs and exact
+// checkpoints. The Trainer knows no algorithm: agent.algo picks one from the
+// registry (algorithms.h), and the Trainer drives it (algorithm.h) on a
+// Collector (collector.h) iteration by iteration.
 //
 //   Trainer trainer = Trainer::Create(config);      // new run directory
 //   Trainer trainer = Trainer::Resume("runs/x");    // continue the latest checkpoint
 //   TrainSummary s = trainer.Run(callbacks);
 //
-// The loop. Every task has envs_per_task envs, all stepped together by one
-// batched executor. Training runs in rounds of one episode length: at the
-// start of round r every env is re-seeded from (seed, r, env) and reset on a
-// variation of its task drawn from the same stream. Each loop step:
-//  1. actions: uniform random in the action box during the first
-//     warmup_steps steps, then sampled from the learner (one batched forward
-//     pass over all envs, InferenceMode), scaled from (-1, 1) to the box;
-//  2. step the executor; store one transition per env with done =
-//     terminated (a time-limit cut bootstraps) and next_obs = the episode's
-//     last observation where it ended;
-//  3. after warm-up, gradient updates so that updates = floor((step -
-//     warmup_steps) * updates_per_step), each on a replay batch.
-// After a round: one metrics row; an evaluation and a checkpoint when due.
+// The schedule. Every task has envs_per_task envs, all stepped together by
+// one batched executor. Training runs in rounds of one episode length: at
+// the start of round r every env is re-seeded from (seed, r, env) and reset
+// on a variation of its task drawn from the same stream. An iteration is one
+// round (off-policy: act, store, update every step) or agent.rollout_rounds
+// rounds (on-policy: collect, then one update). After an iteration: one
+// metrics row; an evaluation (the multi-task protocol, evaluator.h) and a
+// checkpoint when due.
 //
-// Exact resume. A checkpoint is taken at a round boundary, where every env
-// is about to be re-seeded and reset, so the env state to save is nothing
-// but the round number: the checkpoint holds the learner (networks, target
-// networks, temperatures, optimizers, its generator), the replay buffer and
-// its sampling generator, the warm-up action generator, torch's default
-// generator and the step counters. A resumed run therefore continues with
-// the same numbers as one never stopped; metrics rows written after the
-// checkpoint by the stopped process are dropped and written again.
+// Exact resume. A checkpoint is taken at an iteration boundary, where every
+// env is about to be re-seeded and reset, so the env state to save is nothing
+// but the round number; the algorithm saves everything else it reads
+// (networks, optimizers, generators, replay). A resumed run therefore
+// continues with the same numbers as one never stopped; metrics rows written
+// after the checkpoint by the stopped process are dropped and written again.
 //
 // Run directory:
 //   config.yaml              resolved configuration
 //   tasks.json               the tasks and their task states
 //   metrics.jsonl / .csv     one row per round (losses, alpha, rates, returns)
 //   eval.jsonl / .csv        one row per evaluation (per-task and mean success, return)
-//   checkpoints/step_<N>/    learner.pt, replay.bin, state.json (written into a
-//                            temporary directory, then renamed)
+//   checkpoints/step_<N>/    state.json (counters, algo), learner.pt, and replay.bin
+//                            for off-policy algorithms (written into a temporary
+//                            directory, then renamed)
 //   checkpoints/latest       name of the newest complete checkpoint
 //   summary.json             final evaluation, wall time, rates (when finished)
 //
