@@ -162,7 +162,8 @@ void BindEnv(py::module_& m) {
       .def_property_readonly("id", [](const PyEnv& e) { return e.id; }, "Registry id.")
       .def_property_readonly("family", [](const PyEnv& e) { return e.family; },
                              "Registry family: classic, manipulation or benchmark.")
-      .def_property_readonly("description", [](const PyEnv& e) { return e.get().spec().description; })
+      .def_property_readonly("description", [](const PyEnv& e) { return e.get().spec().description; },
+                             "One-line description from the registry.")
       .def_property_readonly("action_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().action_space); })
       .def_property_readonly("env_obs_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().env_obs_space); })
       .def_property_readonly("task_obs_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().task_obs_space); })

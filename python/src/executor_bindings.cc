@@ -94,21 +94,25 @@ void BindExecutor(py::module_& m) {
       .def_property_readonly("pending", [](const PyExecutor& e) { return e.pending; },
                              "True between send() and recv().")
       .def_property_readonly("closed", [](const PyExecutor& e) { return e.exec == nullptr; })
-      .def("action_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().action_space); }, py::arg("index") = 0)
-      .def("env_obs_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().env_obs_space); }, py::arg("index") = 0)
-      .def("task_obs_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().task_obs_space); }, py::arg("index") = 0)
-      .def("max_episode_steps", [](PyExecutor& e, int i) { return e.get().env(i).spec().max_episode_steps; }, py::arg("index") = 0)
+      .def("action_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().action_space); }, py::arg("index") = 0,
+           "Action space of env `index`.")
+      .def("env_obs_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().env_obs_space); }, py::arg("index") = 0,
+           "Env-observation space of env `index`.")
+      .def("task_obs_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().task_obs_space); }, py::arg("index") = 0,
+           "Task-observation space of env `index`.")
+      .def("max_episode_steps", [](PyExecutor& e, int i) { return e.get().env(i).spec().max_episode_steps; }, py::arg("index") = 0,
+           "Episode limit of env `index` (0: none).")
       .def("seed", [](PyExecutor& e, uint64_t s, uint64_t t) { e.get().Seed(s, t); },
            py::arg("env_seed"), py::arg("task_seed"),
            "Env i gets seed(mix_seed(env_seed, i)) and seed_task(mix_seed(task_seed, i)).")
       .def("seed_env", [](PyExecutor& e, int i, uint64_t s) { e.get().env(i).Seed(s); },
-           py::arg("index"), py::arg("seed"))
+           py::arg("index"), py::arg("seed"), "Seeds env `index` (dynamics, initial states).")
       .def("seed_task_env", [](PyExecutor& e, int i, uint64_t s) { e.get().env(i).SeedTask(s); },
-           py::arg("index"), py::arg("seed"))
+           py::arg("index"), py::arg("seed"), "Seeds the task sampler of env `index`.")
       .def("sample_task_state", [](PyExecutor& e, int i) { return TaskStateToPython(e.get().env(i).SampleTaskState()); },
-           py::arg("index"))
+           py::arg("index"), "Draws a task state from env `index`'s task sampler.")
       .def("get_task_state", [](PyExecutor& e, int i) { return TaskStateToPython(e.get().env(i).GetTaskState()); },
-           py::arg("index"))
+           py::arg("index"), "The current task state of env `index`.")
       .def("set_task_state",
            [](PyExecutor& e, int i, const py::handle& state, bool reset) {
              if (e.pending) throw EpisodeStateError("vector env: set_task_state between send() and recv()");

@@ -1,0 +1,55 @@
+#!/usr/bin/env bash
+# Builds and tests the Python package: installs the Debian packages it needs,
+# creates a virtual environment (default .venv-py/, override with
+# MANYWORLDS_VENV), pip-installs the package from this checkout (`pip install .`,
+# which builds manyworlds._core with CMake into build-py/) and the test
+# dependencies, and runs the pytest suite in python/tests.
+#
+# Test dependencies: gymnasium 1.0, pytest and Stable-Baselines3 2.4 on Debian's
+# python3-torch (1.13; the venv sees it through --system-site-packages), so no
+# CUDA wheels are downloaded. Where build/manyworlds exists (scripts/test.sh
+# builds it) the determinism test also compares with `manyworlds rollout --json`.
+# Idempotent; extra arguments go to pytest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv=${MANYWORLDS_VENV:-.venv-py}
+python=${PYTHON:-/usr/bin/python3}
+
+bash scripts/setup.sh
+packages=(python3-dev python3-venv python3-pip python3-torch)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update
+  $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+if [ ! -x "$venv/bin/python" ]; then
+  "$python" -m venv --system-site-packages "$venv"
+fi
+pip=("$venv/bin/python" -m pip --disable-pip-version-check)
+"${pip[@]}" install -q --upgrade pip
+# numpy<2: Debian's torch 1.13 is built against numpy 1.x. SB3 2.4 is the last
+# release that accepts torch 1.13; it needs gymnasium < 1.1. --no-deps keeps
+# pip from replacing Debian's torch (which reports itself as 1.13.0a0) with
+# PyPI's CUDA build.
+"${pip[@]}" install -q "gymnasium>=1.0,<1.1" "numpy>=1.21,<2" "pytest>=7" cloudpickle pandas matplotlib
+"${pip[@]}" install -q --no-deps "stable-baselines3>=2.4,<2.5"
+
+export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
+"${pip[@]}" install -q .
+
+# python/manyworlds is not on sys.path here: the tests import the installed package.
+set +e
+"$venv/bin/python" -m pytest -p no:cacheprovider -q python/tests "$@"
+status=$?
+set -e
+if [ "$status" -eq 5 ]; then
+  echo "python_test.sh: pytest collected no tests (exit code 5); the suite must not be empty" >&2
+  exit 1
+fi
+exit "$status"
