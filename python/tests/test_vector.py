@@ -167,3 +167,13 @@ def test_views_keep_the_buffers_alive_after_close():
     envs.close()
     del envs
     assert view.shape == (2, 2) and np.all(np.isfinite(view))
+
+
+def test_gymnasium_sync_vector_env_over_single_envs():
+    # Gymnasium's own SyncVectorEnv over ManyworldsEnv instances works as well.
+    envs = gym.make_vec("manyworlds/point-nav", num_envs=2, vectorization_mode="sync")
+    assert isinstance(envs, gym.vector.SyncVectorEnv)
+    obs, _ = envs.reset(seed=0)
+    assert obs["env_obs"].shape == (2, 2)
+    envs.step(envs.action_space.sample())
+    envs.close()
