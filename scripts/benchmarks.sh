@@ -2,7 +2,7 @@
 # Runs every benchmark behind docs/benchmarks.md on this machine and writes
 # the complete output to docs/benchmarks_<date>.log (or the file given as $1).
 # Needs a Release build in build/ (scripts/test.sh or scripts/main.sh makes
-# one). Takes about 10 minutes on two cores; run it on an otherwise idle
+# one) and, for the PPO peer, Debian's python3-torch. Takes about 12 minutes on two cores; run it on an otherwise idle
 # machine, the figures are medians of repeats but the machine must be quiet.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -36,4 +36,13 @@ B=build/manyworlds
   # The MT10 configs' batch: 32 per task.
   $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10
   $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10 --architecture multihead
+  # PPO optimisation epoch (2 x 256 tanh policy and value, minibatch 1000),
+  # interleaved with its PyTorch-in-Python peer (Debian's python3-torch), best
+  # thread setting of each: the ratio is the figure.
+  for round in 1 2 3; do
+    $B bench agent --algo ppo --batch 10000 --minibatch 1000 --hidden 256 --layers 2 \
+      --updates 3 --repeats 5 --json
+    /usr/bin/python3 bench/peers/ppo_epoch.py --batch 10000 --minibatch 1000 --hidden 256 \
+      --layers 2 --updates 3 --repeats 5 --threads 1
+  done
 } 2>&1 | tee "$log"

@@ -65,15 +65,6 @@ TEST(OnPolicyLearningTest, TrpoSolvesPointNavigation) {
   EXPECT_GT(r.mean_return, -2.0);  // a random policy: about -50
 }
 
-TEST(OnPolicyLearningTest, PpoSolvesPointNavigation) {
-  const EvalResult r = Train(FromFile(
-      "point_nav_trpo.yaml", Scratch("ppo_nav"),
-      {"agent.algo=ppo", "agent.lr=1e-3", "experiment.steps_per_task=20000"}));
-  ASSERT_TRUE(r.mean_success.has_value());
-  EXPECT_GE(*r.mean_success, 0.95);
-  EXPECT_GT(r.mean_return, -2.0);
-}
-
 TEST(OnPolicyLearningTest, CategoricalPpoBeatsTheUniformPolicyOnABandit) {
   TrainConfig c = FromFile("cartpole_ppo.yaml", Scratch("bandit"),
                            {"env.id=bandit", "env.num_tasks=1", "env.envs_per_task=4",
