@@ -43,8 +43,9 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
 
     Seeding: ``reset(seed=s)`` gives env i the env seed ``mix_seed(s, i)`` and the task seed
     ``mix_seed(t, i)``, where ``t`` is the reset option ``task_seed`` (default: the last one,
-    initially 0); ``seed`` may also be a list with one seed (or ``None``) per env. Results never
-    depend on ``threads``.
+    initially 0); ``seed`` may also be a list with one seed (or ``None``) per env. Before any
+    seed, env i has the seeds ``mix_seed(0, i)``, so the envs differ from the start. Results
+    never depend on ``threads``.
 
     Args:
         env_ids: One id (repeated ``num_envs`` times), or a list of ids or ``(id, options)``
@@ -106,6 +107,9 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
                 )
 
         self._exec = _core.Executor(core_envs, num_threads=int(threads))
+        # Distinct, deterministic envs even without a seed: env i gets the env and task
+        # seeds mix_seed(0, i) (a task state given above stays).
+        self._exec.seed(0, 0)
         self.env_ids = [env_id for env_id, _ in entries]
         self.num_envs = len(entries)
         self.flat_obs = bool(flat_obs)

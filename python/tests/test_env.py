@@ -38,15 +38,18 @@ def test_gymnasium_make_passes_options():
     env = gym.make("manyworlds/bandit", n_arms=3)
     assert env.action_space == gym.spaces.Discrete(3)
     assert env.unwrapped.options == {"n_arms": 3}
-    env = gym.make("manyworlds/point-nav", max_episode_steps=7)
-    env.reset(seed=0)
-    steps = 0
-    while True:
-        steps += 1
-        _, _, terminated, truncated, _ = env.step(env.action_space.sample())
-        if terminated or truncated:
-            break
-    assert steps == 7 and truncated
+    # The C++ episode limit is the registry option max_episode_steps (gymnasium.make's own
+    # argument of that name adds Gymnasium's TimeLimit instead; both truncate).
+    for env in (manyworlds.make("point-nav", max_episode_steps=7), gym.make("manyworlds/point-nav", max_episode_steps=7)):
+        env.reset(seed=0)
+        steps = 0
+        while True:
+            steps += 1
+            _, _, terminated, truncated, _ = env.step(env.action_space.sample())
+            if terminated or truncated:
+                break
+        assert steps == 7 and truncated
+    assert manyworlds.make("point-nav", max_episode_steps=7).max_episode_steps == 7
 
 
 def test_spaces_and_step_types():

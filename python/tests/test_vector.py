@@ -177,3 +177,14 @@ def test_gymnasium_sync_vector_env_over_single_envs():
     assert obs["env_obs"].shape == (2, 2)
     envs.step(envs.action_space.sample())
     envs.close()
+
+
+def test_envs_differ_without_a_seed_and_are_deterministic():
+    a = manyworlds.make_vec("cartpole", 4)
+    obs, _ = a.reset()
+    rows = obs["env_obs"].copy()
+    assert len({tuple(r) for r in rows}) == 4
+    assert len({tuple(r) for r in obs["task_obs"]}) == 4
+    b = manyworlds.make_vec("cartpole", 4)
+    obs_b, _ = b.reset()
+    np.testing.assert_array_equal(rows, obs_b["env_obs"])
