@@ -2,7 +2,9 @@
 
 Single-task point navigation (the goal of task seed 0 is 0.27 from the start): standing still
 returns about -13.4 over 50 steps, a random policy about -20, the best policy about -0.4. The
-thresholds below need the learned policy to walk to the goal and stay there.
+thresholds below need the learned policy to walk to the goal and stay near it. Measured with
+these seeds: SAC -1.57 (success 1.0), PPO -3.61 (success 1.0), PPO on 8 envs with 8 different
+goals through SB3VecEnv -3.88 on the evaluation goal (within about 0.07 of it: success 0.0).
 """
 
 import numpy as np
