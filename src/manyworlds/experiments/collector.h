@@ -18,6 +18,8 @@
 #include <span>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/experiments/episode_tracker.h"
@@ -34,6 +36,14 @@ struct EpisodeTotals {
     return_sum += r.episode_return;
     success_sum += r.success ? 1.0 : 0.0;
     ++episodes;
+  }
+  // train_episodes, train_return and train_success (null where undefined).
+  void WriteTo(nlohmann::json& row, bool has_success) const {
+    row["train_episodes"] = episodes;
+    row["train_return"] =
+        episodes > 0 ? nlohmann::json(return_sum / episodes) : nlohmann::json();
+    row["train_success"] = episodes > 0 && has_success ? nlohmann::json(success_sum / episodes)
+                                                       : nlohmann::json();
   }
 };
 

@@ -124,13 +124,11 @@ class OffPolicyAlgorithm : public Algorithm {
         {"time_env_s", t_env},
         {"time_update_s", t_update},
         {"buffer_size", replay_->size()},
-        {"train_episodes", totals.episodes},
-        {"train_return", totals.episodes > 0 ? nlohmann::json(totals.return_sum / totals.episodes)
-                                             : nlohmann::json()},
         {"train_success", totals.episodes > 0 && facts_.success_index >= 0
                               ? nlohmann::json(totals.success_sum / totals.episodes)
                               : nlohmann::json()},
     };
+    totals.WriteTo(row, facts_.success_index >= 0);
     means.WriteTo(row);
     return row;
   }

@@ -52,7 +52,7 @@ class OnPolicyAlgorithm : public Algorithm {
     double t_act = 0.0, t_env = 0.0;
     EpisodeTotals totals;
     BatchedExecutor& exec = collector.executor();
-    const int64_t d = facts_.obs_dim, a = facts_.action_dim;
+    const int64_t d = facts_.obs_dim;
     agents::ActorState state = learner_->Initial(num_envs_);
     for (int64_t k = 0; k < rounds_; ++k) {
       collector.BeginRound(seed_, first_round + k);
@@ -104,7 +104,6 @@ class OnPolicyAlgorithm : public Algorithm {
         t_env += Seconds(Clock::now() - t1);
       }
     }
-    (void)a;
     const auto t2 = Clock::now();
     const agents::Metrics metrics = learner_->Update(buffer_);
     nlohmann::json row = {
@@ -112,13 +111,11 @@ class OnPolicyAlgorithm : public Algorithm {
         {"time_env_s", t_env},
         {"time_update_s", Seconds(Clock::now() - t2)},
         {"batch_size", buffer_.size()},
-        {"train_episodes", totals.episodes},
-        {"train_return", totals.episodes > 0 ? nlohmann::json(totals.return_sum / totals.episodes)
-                                             : nlohmann::json()},
         {"train_success", totals.episodes > 0 && facts_.success_index >= 0
                               ? nlohmann::json(totals.success_sum / totals.episodes)
                               : nlohmann::json()},
     };
+    totals.WriteTo(row, facts_.success_index >= 0);
     for (const auto& [name, value] : metrics.items()) row[name] = value;
     return row;
   }
