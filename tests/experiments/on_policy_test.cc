@@ -57,6 +57,14 @@ TEST(OnPolicyLearningTest, PpoSolvesMultiTaskCartPole) {
   for (const auto& t : r.per_task) EXPECT_GE(t.mean_return, 475.0) << t.task;  // limit 500
 }
 
+TEST(OnPolicyLearningTest, PpoSolvesPointNavigation) {
+  const EvalResult r = Train(FromFile("point_nav_ppo.yaml", Scratch("ppo_nav")));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);
+  // a mean distance to the goal under 0.03 over the episode; random: about -50
+  EXPECT_GT(r.mean_return, -3.0);
+}
+
 TEST(OnPolicyLearningTest, TrpoSolvesPointNavigation) {
   const EvalResult r = Train(FromFile("point_nav_trpo.yaml", Scratch("trpo"),
                                       {"experiment.steps_per_task=20000"}));
