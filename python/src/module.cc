@@ -2,6 +2,7 @@
 #include <dlfcn.h>
 
 #include <exception>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -34,14 +35,26 @@ PyObject* NewException(py::module_& m, const char* name, PyObject* bases, const 
 
 // MuJoCo 2.2.2 finds OSMesaGetProcAddress with dlsym in the global scope,
 // but Python loads extension modules (and so their libOSMesa) with
-// RTLD_LOCAL. Reopening the already loaded libOSMesa with RTLD_GLOBAL |
-// RTLD_NOLOAD promotes it to the global scope without loading anything.
+// RTLD_LOCAL. Promoting libOSMesa to the global scope would promote its
+// dependencies too, Mesa's libLLVM among them, and a library with its own
+// LLVM loaded later (Triton, under PyTorch 2's optimizers) would crash
+// binding to it. Instead the shim library next to this module, which has no
+// dependencies and defines only OSMesaGetProcAddress, is opened with
+// RTLD_GLOBAL and forwards to the real function (osmesa_shim.cc). Without
+// the shim, rendering reports MuJoCo's "could not load GL" as an error.
 void EnsureOsmesaGlobal() {
 #ifdef MANYWORLDS_PY_RENDER
   Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&OSMesaGetProcAddress), &info) != 0 && info.dli_fname) {
-    dlopen(info.dli_fname, RTLD_NOW | RTLD_GLOBAL | RTLD_NOLOAD);  // handle kept on purpose
-  }
+  if (dladdr(reinterpret_cast<void*>(&EnsureOsmesaGlobal), &info) == 0 || !info.dli_fname) return;
+  std::string path = info.dli_fname;
+  const size_t slash = path.rfind('/');
+  path = (slash == std::string::npos ? std::string() : path.substr(0, slash + 1)) +
+         MANYWORLDS_OSMESA_SHIM;
+  void* shim = dlopen(path.c_str(), RTLD_NOW | RTLD_GLOBAL);  // kept for the process
+  if (shim == nullptr) return;
+  using ProcAddressFn = void* (*)(const char*);
+  auto set = reinterpret_cast<void (*)(ProcAddressFn)>(dlsym(shim, "manyworlds_osmesa_shim_set"));
+  if (set != nullptr) set(&OSMesaGetProcAddress);
 #endif
 }
 
