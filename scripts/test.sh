@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Installs dependencies, builds everything with tests (Release) and runs the
-# whole test suite. Idempotent; MANYWORLDS_BUILD_DIR picks another build
-# directory (default build/).
+# whole test suite: the C++ tests (ctest), then the Python package's tests
+# (scripts/python_test.sh: virtual environment .venv-py/, `pip install .`,
+# pytest; its determinism test compares with the program built here).
+# Idempotent; MANYWORLDS_BUILD_DIR picks another build directory (default
+# build/). Exits non-zero if either suite fails; both always run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${MANYWORLDS_BUILD_DIR:-build}
@@ -9,4 +12,12 @@ build_dir=${MANYWORLDS_BUILD_DIR:-build}
 bash scripts/setup.sh
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DMANYWORLDS_BUILD_TESTS=ON
 cmake --build "$build_dir" -j"$(nproc)"
-ctest --test-dir "$build_dir" --output-on-failure -j2
+cpp_status=0
+ctest --test-dir "$build_dir" --output-on-failure -j2 || cpp_status=$?
+case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
+py_status=0
+MANYWORLDS_CLI="$cli" bash scripts/python_test.sh || py_status=$?
+if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ]; then
+  echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status" >&2
+  exit 1
+fi
