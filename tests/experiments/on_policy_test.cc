@@ -65,6 +65,20 @@ TEST(OnPolicyLearningTest, PpoSolvesPointNavigation) {
   EXPECT_GT(r.mean_return, -3.0);
 }
 
+TEST(OnPolicyLearningTest, TePpoSolvesPointNavigationWithSeparableTaskLatents) {
+  const fs::path dir = Scratch("teppo");
+  const EvalResult r = Train(FromFile("point_nav_teppo.yaml", dir));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);  // the task reaches the policy only through the latent
+  EXPECT_GT(r.mean_return, -3.0);
+  // the encoder keeps the tasks apart and the inference network recognises
+  // the episode's latent from six observations
+  const nlohmann::json last = ReadJsonLines(dir / "metrics.jsonl").back();
+  EXPECT_GT(last["latent_min_distance"].get<double>(),
+            3.0 * last["inference_rmse"].get<double>())
+      << last.dump();
+}
+
 TEST(OnPolicyLearningTest, TrpoSolvesPointNavigation) {
   const EvalResult r = Train(FromFile("point_nav_trpo.yaml", Scratch("trpo"),
                                       {"experiment.steps_per_task=20000"}));
@@ -139,6 +153,11 @@ TEST(OnPolicyResumeTest, PpoResumesExactly) {
                     {"experiment.steps_per_task=2500", "experiment.eval_every=500"}, "ppo");
 }
 
+TEST(OnPolicyResumeTest, TePpoResumesExactly) {
+  ExpectExactResume("point_nav_teppo.yaml",
+                    {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "teppo");
+}
+
 TEST(OnPolicyResumeTest, TrpoResumesExactly) {
   ExpectExactResume("point_nav_trpo.yaml",
                     {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "trpo");
@@ -172,7 +191,7 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
   EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
   // the registry lists every algorithm with its family
-  ASSERT_EQ(Algorithms().size(), 3u);
+  ASSERT_EQ(Algorithms().size(), 4u);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
   // the resolved config names its algorithm and round-trips
   const TrainConfig trpo = TrainConfig::Load(std::nullopt, {"agent.algo=trpo"});

@@ -36,6 +36,9 @@ struct ActorState {
 struct ActOutput {
   torch::Tensor action;    // (N, action_dim)
   torch::Tensor log_prob;  // (N) log-probability of action, when the policy has one
+  // (N, Z) the latent the actions were conditioned on (TE-PPO), else undefined;
+  // on-policy loops store it with the rollout.
+  torch::Tensor latent;
 };
 
 class Actor {

@@ -37,6 +37,8 @@ class OnPolicyLearner : public Learner {
   // rewards and episode flags filled; values and advantages are the
   // learner's to compute).
   virtual Metrics Update(rl::RolloutBuffer& rollout) = 0;
+  // Updates done so far (restored by Load).
+  virtual int64_t num_updates() const = 0;
 };
 
 }  // namespace manyworlds::agents

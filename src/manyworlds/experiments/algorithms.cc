@@ -10,7 +10,7 @@ namespace manyworlds::experiments {
 namespace {
 
 // Variant index of each algorithm's config in AgentConfig::params.
-constexpr size_t kSac = 0, kPpo = 1, kTrpo = 2;
+constexpr size_t kSac = 0, kPpo = 1, kTrpo = 2, kTePpo = 3;
 
 void ReadSac(ConfigReader& r, agents::SacConfig& c) {
   r.Read("hidden_dim", c.hidden_dim);
@@ -111,6 +111,8 @@ const std::vector<AlgorithmInfo>& Algorithms() {
        "proximal policy optimisation (MT-PPO with several tasks)"},
       {"trpo", AlgorithmFamily::kOnPolicy, true, true,
        "trust region policy optimisation (MT-TRPO with several tasks)"},
+      {"te_ppo", AlgorithmFamily::kOnPolicy, true, true,
+       "PPO with learned task embeddings (encoder, inference network; garage's TEPPO)"},
   };
   return list;
 }
@@ -136,6 +138,7 @@ AgentConfig DefaultAgentConfig(const std::string& algo) {
   AgentConfig agent;
   if (algo == "ppo") agent.params.emplace<kPpo>();
   if (algo == "trpo") agent.params.emplace<kTrpo>();
+  if (algo == "te_ppo") agent.params.emplace<kTePpo>();
   return agent;
 }
 

@@ -7,6 +7,7 @@
 //                                                   task encoder, CARE, PCGrad)
 //   ppo    on-policy   agents/ppo/ppo_config.h      agents/ppo/ppo.h (PPO, MT-PPO)
 //   trpo   on-policy   agents/trpo/trpo_config.h    agents/trpo/trpo.h (TRPO, MT-TRPO)
+//   te_ppo on-policy   agents/te_ppo/te_ppo_config.h agents/te_ppo/te_ppo.h (TE-PPO)
 //
 // This header is torch-free: configs can be read, printed and validated
 // without the networks. MakeAlgorithm (algorithm.h) builds the learner.

@@ -59,7 +59,10 @@ Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t epi
 
 Evaluator::~Evaluator() = default;
 
-EvalResult Evaluator::Run(const PolicyFn& policy) {
+EvalResult Evaluator::Run(const PolicyFn& policy) { return RunEpisodes(policy, [] {}); }
+
+EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
+                                  const std::function<void()>& new_episodes) {
   const auto start = std::chrono::steady_clock::now();
   const int64_t num_tasks = tasks_.size();
   const int64_t n = num_tasks * slots_;
@@ -73,6 +76,7 @@ EvalResult Evaluator::Run(const PolicyFn& policy) {
   std::vector<double> ep_return(n), ep_length(n);
   std::vector<char> ep_success(n), active(n);
   for (int64_t first = 0; first < episodes_; first += slots_) {
+    if (first > 0) new_episodes();
     for (int64_t i = 0; i < n; ++i) {
       const int64_t t = i / slots_;
       const int64_t e = first + i % slots_;
@@ -137,10 +141,14 @@ EvalResult Evaluator::Run(const PolicyFn& policy) {
 }
 
 EvalResult Evaluator::Run(agents::Actor& actor) {
-  agents::ActorState state = actor.Initial(tasks_.size() * slots_);
-  return Run([&](const torch::Tensor& obs, const torch::Tensor& task) {
-    return actor.Act(obs, task, state, agents::ActMode::kDeterministic).action;
-  });
+  const int64_t n = tasks_.size() * slots_;
+  agents::ActorState state = actor.Initial(n);
+  const torch::Tensor all_envs = torch::ones({n}, torch::kBool);
+  return RunEpisodes(
+      [&](const torch::Tensor& obs, const torch::Tensor& task) {
+        return actor.Act(obs, task, state, agents::ActMode::kDeterministic).action;
+      },
+      [&] { actor.Reset(all_envs, agents::ResetScope::kEpisode, state); });
 }
 
 }  // namespace manyworlds::experiments

@@ -84,12 +84,16 @@ class Evaluator : public EvaluationProtocol {
   ~Evaluator();
 
   EvalResult Run(const PolicyFn& policy);
-  // Deterministic actions of a (feed-forward) actor.
+  // Deterministic actions of an actor, told where its episodes begin.
   EvalResult Run(agents::Actor& actor) override;
 
   int64_t episodes_per_task() const { return episodes_; }
 
  private:
+  // Run, calling new_episodes before each batch of episodes after the first
+  // (every slot starts a new episode there).
+  EvalResult RunEpisodes(const PolicyFn& policy, const std::function<void()>& new_episodes);
+
   const TaskSet& tasks_;
   EnvFacts facts_;
   int64_t episodes_;

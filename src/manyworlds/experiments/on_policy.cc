@@ -1,15 +1,18 @@
-// The on-policy family's loop (PPO, TRPO): each iteration collects
+// The on-policy family's loop (PPO, TRPO, TE-PPO): each iteration collects
 // agent.rollout_rounds rounds of every env into a rollout buffer with the
 // sampling policy (one batched forward pass per step, inference mode), cuts
 // the episodes still running at the end of each round (they bootstrap from
 // their last observation, as a time-limit truncation does), then runs one
-// learner update on the whole buffer.
+// learner update on the whole buffer. The actor is told where episodes
+// begin again (every env at a round's start, an env after its episode
+// ends), so per-episode state such as TE-PPO's latent follows the episodes.
 // Checkpoint files: learner.pt (learner and torch generators).
 #include <chrono>
 #include <string>
 #include <vector>
 
 #include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
@@ -30,7 +33,7 @@ constexpr uint64_t kAgentStream = 0x6167656e74;  // "agent"
 class OnPolicyAlgorithm : public Algorithm {
  public:
   OnPolicyAlgorithm(const AlgorithmSetup& s,
-                    std::unique_ptr<agents::PolicyGradientLearner> learner, int64_t rounds)
+                    std::unique_ptr<agents::OnPolicyLearner> learner, int64_t rounds)
       : facts_(s.facts),
         seed_(s.config.experiment.seed),
         num_envs_(s.num_envs),
@@ -53,9 +56,14 @@ class OnPolicyAlgorithm : public Algorithm {
     EpisodeTotals totals;
     BatchedExecutor& exec = collector.executor();
     const int64_t d = facts_.obs_dim;
-    agents::ActorState state = learner_->Initial(num_envs_);
+    agents::Actor& actor = learner_->AsActor();
+    agents::ActorState state = actor.Initial(num_envs_);
+    const torch::Tensor all_envs = torch::ones({num_envs_}, torch::kBool);
+    torch::Tensor ended_envs = torch::zeros({num_envs_}, torch::kBool);
+    bool* ended_flags = ended_envs.data_ptr<bool>();
     for (int64_t k = 0; k < rounds_; ++k) {
       collector.BeginRound(seed_, first_round + k);
+      if (k > 0) actor.Reset(all_envs, agents::ResetScope::kEpisode, state);
       for (int64_t s = 0; s < round_length_; ++s) {
         const int64_t t = k * round_length_ + s;
         const auto t0 = Clock::now();
@@ -67,9 +75,15 @@ class OnPolicyAlgorithm : public Algorithm {
         for (int64_t i = 0; i < num_envs_; ++i) ep[i] = static_cast<float>(steps[i]);
         {
           const agents::ActOutput out =
-              learner_->Act(obs_row, env_task_, state, agents::ActMode::kSample);
+              actor.Act(obs_row, env_task_, state, agents::ActMode::kSample);
           buffer_.actions[t].copy_(out.action);
           buffer_.log_probs[t].copy_(out.log_prob);
+          if (out.latent.defined()) {
+            if (!buffer_.latents.defined()) {
+              buffer_.latents = torch::zeros({buffer_.steps(), num_envs_, out.latent.size(1)});
+            }
+            buffer_.latents[t].copy_(out.latent);
+          }
           const torch::Tensor action = out.action.contiguous();
           std::copy(action.data_ptr<float>(), action.data_ptr<float>() + action.numel(),
                     actions_.begin());
@@ -86,10 +100,13 @@ class OnPolicyAlgorithm : public Algorithm {
         float* end = buffer_.ended[t].data_ptr<float>();
         float* fin = buffer_.final_obs[t].data_ptr<float>();
         const bool last = s + 1 == round_length_;
+        bool any_ended = false;
         for (int64_t i = 0; i < num_envs_; ++i) {
           r[i] = rewards[i];
           term[i] = terminated[i] ? 1.0f : 0.0f;
           const bool ended = terminated[i] || truncated[i];
+          ended_flags[i] = ended;
+          any_ended = any_ended || ended;
           end[i] = ended || last ? 1.0f : 0.0f;
           // the round cuts a running episode: it ends at the current observation
           const float* src = ended ? final_obs.data() + i * d
@@ -100,6 +117,7 @@ class OnPolicyAlgorithm : public Algorithm {
             std::fill(fin + i * d, fin + (i + 1) * d, 0.0f);
           }
         }
+        if (any_ended && !last) actor.Reset(ended_envs, agents::ResetScope::kEpisode, state);
         t_act += Seconds(t1 - t0);
         t_env += Seconds(Clock::now() - t1);
       }
@@ -145,7 +163,7 @@ class OnPolicyAlgorithm : public Algorithm {
   EnvFacts facts_;
   uint64_t seed_;
   int64_t num_envs_, round_length_, rounds_;
-  std::unique_ptr<agents::PolicyGradientLearner> learner_;
+  std::unique_ptr<agents::OnPolicyLearner> learner_;
   rl::RolloutBuffer buffer_;
   torch::Tensor env_task_;
   std::vector<float> actions_;
@@ -183,6 +201,11 @@ std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup) {
     const auto c = Seeded<agents::TrpoConfig>(setup);
     return std::make_unique<OnPolicyAlgorithm>(
         setup, std::make_unique<agents::TrpoLearner>(c, Spaces(setup)), c.rollout_rounds);
+  }
+  if (algo == "te_ppo") {
+    const auto c = Seeded<agents::TePpoConfig>(setup);
+    return std::make_unique<OnPolicyAlgorithm>(
+        setup, std::make_unique<agents::TePpoLearner>(c, Spaces(setup)), c.rollout_rounds);
   }
   FindAlgorithm(algo);  // throws for an unknown name
   throw ConfigError("agent.algo '" + algo + "' has no implementation");

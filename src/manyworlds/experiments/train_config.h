@@ -19,9 +19,10 @@
 //     task_seed: 0         # draws the task set; independent of experiment.seed
 //   agent:
 //     algo: sac            # the algorithm (experiments/algorithms.h lists them:
-//                          # sac, ppo, trpo); the other keys are that
+//                          # sac, ppo, trpo, te_ppo); the other keys are that
 //                          # algorithm's config (agents/sac_config.h,
-//                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h),
+//                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h,
+//                          # agents/te_ppo/te_ppo_config.h),
 //                          # e.g. hidden_dim, actor_lr, architecture, pcgrad;
 //                          # agent.seed is mixed with experiment.seed
 //   replay:                # off-policy algorithms (sac) only
@@ -67,6 +68,7 @@
 
 #include "manyworlds/agents/ppo/ppo_config.h"
 #include "manyworlds/agents/sac_config.h"
+#include "manyworlds/agents/te_ppo/te_ppo_config.h"
 #include "manyworlds/agents/trpo/trpo_config.h"
 #include "manyworlds/experiments/task_set.h"
 
@@ -95,9 +97,10 @@ struct ExperimentSectionConfig {
 // The agent section: one algorithm's typed config. The variant's
 // alternatives are the algorithm registry's configs (algorithms.h).
 struct AgentConfig {
-  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig> params;
+  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig>
+      params;
 
-  // The registry name of the algorithm ("sac", "ppo", "trpo").
+  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo").
   std::string algo() const;
   // The typed config; ConfigError if the agent is another algorithm.
   template <class C>

@@ -109,8 +109,8 @@ StochasticPolicyImpl::StochasticPolicyImpl(const StochasticPolicyOptions& option
   if (!discrete()) specs.push_back({"log_std", {o.action_dim}});
   InitFlat(std::move(specs));
   const std::vector<torch::Tensor>& p = detached_params();
-  InitOnPolicyMlp(at::ArrayRef<torch::Tensor>(p).slice(0, mlp_tensors_), std::sqrt(2.0), 0.01,
-                  generator);
+  InitOnPolicyMlp(at::ArrayRef<torch::Tensor>(p).slice(0, mlp_tensors_), std::sqrt(2.0),
+                  o.output_gain, generator);
   if (!discrete()) {
     torch::NoGradGuard no_grad;
     p.back().fill_(std::log(o.init_std));
@@ -133,7 +133,7 @@ ActionDistribution StochasticPolicyImpl::Forward(const torch::Tensor& x, const t
     d.logits = torch::log_softmax(out, -1);
     return d;
   }
-  d.mean = out;
+  d.mean = options_.tanh_mean ? torch::tanh(out) : out;
   const torch::Tensor log_std =
       params.back().clamp(std::log(options_.min_std), std::log(options_.max_std));
   d.log_std = log_std.expand_as(out);

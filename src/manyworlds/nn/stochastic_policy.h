@@ -66,6 +66,11 @@ struct StochasticPolicyOptions {
   double min_std = 0.5;
   double max_std = 1.5;
   int64_t num_heads = 1;
+  // Gain of the output layer's orthogonal init (0.01: near-uniform first
+  // actions; task encoders use 1 so that tasks start apart).
+  double output_gain = 0.01;
+  // tanh on the Gaussian mean (bounded latents of TE-PPO's encoders).
+  bool tanh_mean = false;
 };
 
 class StochasticPolicyImpl : public FlatModule {

@@ -54,6 +54,9 @@ class RolloutBuffer {
   torch::Tensor bootstrap_values; // (T, N) V(final obs) where ended and not terminated
   torch::Tensor episode_steps;    // (T, N) steps into the episode before this one
   torch::Tensor task_index;       // (N) int64
+  // (T, N, Z) the actor's latent at each step, for latent-conditioned
+  // policies (TE-PPO); undefined otherwise (the loop allocates it).
+  torch::Tensor latents;
   // Filled by ComputeAdvantages.
   torch::Tensor advantages;       // (T, N)
   torch::Tensor returns;          // (T, N) advantages + values

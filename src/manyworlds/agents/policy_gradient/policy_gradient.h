@@ -70,7 +70,7 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
 
   nn::StochasticPolicy& policy() { return policy_; }
   const PolicySpaces& spaces() const { return spaces_; }
-  int64_t num_updates() const { return num_updates_; }
+  int64_t num_updates() const override { return num_updates_; }
   at::Generator& generator() { return generator_; }
 
  protected:

@@ -40,6 +40,22 @@ void PpoConfig::Validate() const {
   }
 }
 
+ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
+                                      const torch::Tensor& old_log_probs,
+                                      const torch::Tensor& advantages, double clip_range) {
+  const torch::Tensor log_ratio = log_probs - old_log_probs;
+  const torch::Tensor ratio = log_ratio.exp();
+  const torch::Tensor surrogate = torch::minimum(
+      ratio * advantages, ratio.clamp(1.0 - clip_range, 1.0 + clip_range) * advantages);
+  ClippedSurrogate out;
+  out.loss = -surrogate.mean();
+  torch::NoGradGuard no_grad;
+  // (r - 1) - log r: an unbiased, non-negative estimate of KL(old || new)
+  out.approx_kl = ((ratio - 1.0) - log_ratio).mean().item<double>();
+  out.clip_fraction = ((ratio - 1.0).abs() > clip_range).to(torch::kFloat32).mean().item<double>();
+  return out;
+}
+
 PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
     : PolicyGradientLearner(Validated(config), spaces),
       ppo_(config),
@@ -57,26 +73,19 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
     const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
     const torch::Tensor head = s.head.defined() ? s.head.index_select(0, rows) : torch::Tensor();
     const nn::ActionDistribution d = policy_->Forward(s.x.index_select(0, rows), head);
-    const torch::Tensor log_ratio =
-        d.LogProb(s.actions.index_select(0, rows)) - s.log_probs.index_select(0, rows);
-    const torch::Tensor ratio = log_ratio.exp();
-    const torch::Tensor adv = s.advantages.index_select(0, rows);
-    const torch::Tensor surrogate =
-        torch::minimum(ratio * adv, ratio.clamp(1.0 - ppo_.clip_range, 1.0 + ppo_.clip_range) * adv);
+    const ClippedSurrogate surrogate = ClippedSurrogateLoss(
+        d.LogProb(s.actions.index_select(0, rows)), s.log_probs.index_select(0, rows),
+        s.advantages.index_select(0, rows), ppo_.clip_range);
     const torch::Tensor ent = d.Entropy().mean();
-    const torch::Tensor loss = -surrogate.mean() - regularizer * ent;
+    const torch::Tensor loss = surrogate.loss - regularizer * ent;
     policy_->ZeroGrad();
     loss.backward();
     ClipGradNorm(policy_->flat_grad(), ppo_.max_grad_norm);
     policy_optimizer_.Step(policy_->flat(), policy_->flat_grad());
     policy_loss += loss.item<double>();
     entropy += ent.item<double>();
-    {
-      torch::NoGradGuard no_grad;
-      // (r - 1) - log r: an unbiased, non-negative estimate of KL(old || new)
-      kl += ((ratio - 1.0) - log_ratio).mean().item<double>();
-      clipped += ((ratio - 1.0).abs() > ppo_.clip_range).to(torch::kFloat32).mean().item<double>();
-    }
+    kl += surrogate.approx_kl;
+    clipped += surrogate.clip_fraction;
     if (uses_value_network()) value_loss += ValueStep(s, rows);
     ++count;
   }

@@ -18,7 +18,15 @@
 
 namespace manyworlds::agents {
 
-
+// PPO's clipped surrogate on one minibatch, shared by PPO and TE-PPO.
+struct ClippedSurrogate {
+  torch::Tensor loss;       // -mean(min(r A, clip(r, 1 - eps, 1 + eps) A)), differentiable
+  double approx_kl = 0.0;   // mean((r - 1) - log r), an estimate of KL(old || new)
+  double clip_fraction = 0.0;  // share of rows with |r - 1| > eps
+};
+ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
+                                      const torch::Tensor& old_log_probs,
+                                      const torch::Tensor& advantages, double clip_range);
 
 class PpoLearner : public PolicyGradientLearner {
  public:

@@ -1,0 +1,472 @@
+#include "manyworlds/agents/te_ppo/te_ppo.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/threads.h"
+#include "manyworlds/rl/generator.h"
+
+namespace manyworlds::agents {
+namespace {
+
+nn::AdamOptions Adam(double lr) {
+  nn::AdamOptions o;
+  o.lr = lr;
+  return o;
+}
+
+const TePpoConfig& Validated(const TePpoConfig& c) {
+  c.Validate();
+  return c;
+}
+
+void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
+                 const torch::nn::Module& module) {
+  torch::serialize::OutputArchive sub;
+  module.save(sub);
+  archive.write(key, sub);
+}
+
+void ReadModule(torch::serialize::InputArchive& archive, const char* key,
+                torch::nn::Module& module) {
+  torch::serialize::InputArchive sub;
+  archive.read(key, sub);
+  module.load(sub);
+}
+
+void WriteOptimizer(torch::serialize::OutputArchive& archive, const char* key,
+                    const nn::FlatAdam& optimizer) {
+  torch::serialize::OutputArchive sub;
+  optimizer.Save(sub);
+  archive.write(key, sub);
+}
+
+void ReadOptimizer(torch::serialize::InputArchive& archive, const char* key,
+                   nn::FlatAdam& optimizer) {
+  torch::serialize::InputArchive sub;
+  archive.read(key, sub);
+  optimizer.Load(sub);
+}
+
+torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) {
+  return on ? torch::softplus(x) : x;
+}
+
+constexpr double kLogSqrt2PiE = 1.4189385332046727;  // 0.5 * log(2 pi e)
+
+}  // namespace
+
+void TePpoConfig::Validate() const {
+  PpoConfig::Validate();
+  auto fail = [](const char* field, const char* allowed, const auto& value) {
+    std::ostringstream msg;
+    msg << "'agent." << field << "' must be " << allowed << ", got " << value;
+    throw ConfigError(msg.str());
+  };
+  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
+  if (architecture != "mlp") {
+    fail("architecture", "mlp for te_ppo (the learned latent replaces the one-hot)",
+         architecture);
+  }
+  if (latent_dim < 1 || latent_dim > 1024) fail("latent_dim", "in [1, 1024]", latent_dim);
+  if (encoder_hidden_dim < 1 || encoder_hidden_dim > 65536) {
+    fail("encoder_hidden_dim", "in [1, 65536]", encoder_hidden_dim);
+  }
+  if (encoder_num_layers < 0 || encoder_num_layers > 64) {
+    fail("encoder_num_layers", "in [0, 64]", encoder_num_layers);
+  }
+  if (!positive(encoder_min_std)) fail("encoder_min_std", "finite and > 0", encoder_min_std);
+  if (!(positive(encoder_max_std) && encoder_max_std >= encoder_min_std)) {
+    fail("encoder_max_std", "finite and >= encoder_min_std", encoder_max_std);
+  }
+  if (!(encoder_init_std >= encoder_min_std && encoder_init_std <= encoder_max_std)) {
+    fail("encoder_init_std", "in [encoder_min_std, encoder_max_std]", encoder_init_std);
+  }
+  if (!(std::isfinite(encoder_entropy_coeff) && encoder_entropy_coeff >= 0)) {
+    fail("encoder_entropy_coeff", "finite and >= 0", encoder_entropy_coeff);
+  }
+  if (inference_window < 1 || inference_window > 1000) {
+    fail("inference_window", "in [1, 1000]", inference_window);
+  }
+  if (inference_hidden_dim < 1 || inference_hidden_dim > 65536) {
+    fail("inference_hidden_dim", "in [1, 65536]", inference_hidden_dim);
+  }
+  if (inference_num_layers < 0 || inference_num_layers > 64) {
+    fail("inference_num_layers", "in [0, 64]", inference_num_layers);
+  }
+  if (!positive(inference_min_std)) fail("inference_min_std", "finite and > 0", inference_min_std);
+  if (!(positive(inference_max_std) && inference_max_std >= inference_min_std)) {
+    fail("inference_max_std", "finite and >= inference_min_std", inference_max_std);
+  }
+  if (!(inference_init_std >= inference_min_std && inference_init_std <= inference_max_std)) {
+    fail("inference_init_std", "in [inference_min_std, inference_max_std]", inference_init_std);
+  }
+  if (!positive(inference_lr)) fail("inference_lr", "finite and > 0", inference_lr);
+  if (inference_epochs < 0 || inference_epochs > 10000) {
+    fail("inference_epochs", "in [0, 10000]", inference_epochs);
+  }
+  if (inference_minibatch_size < 1 || inference_minibatch_size > 100000000) {
+    fail("inference_minibatch_size", "in [1, 1e8]", inference_minibatch_size);
+  }
+  if (!(std::isfinite(inference_ce_coeff) && inference_ce_coeff >= 0)) {
+    fail("inference_ce_coeff", "finite and >= 0", inference_ce_coeff);
+  }
+}
+
+TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces)
+    : config_(Validated(config)),
+      spaces_(spaces),
+      generator_(rl::MakeGenerator(config.seed)),
+      policy_optimizer_(0, Adam(config.lr)),
+      encoder_optimizer_(0, Adam(config.lr)),
+      inference_optimizer_(0, Adam(config.inference_lr)),
+      value_optimizer_(0, Adam(config.vf_lr)) {
+  if (spaces.obs_dim <= 0 || spaces.action_dim <= 0 || spaces.num_tasks <= 0) {
+    throw ConfigError("te_ppo learner: obs_dim, action_dim and num_tasks must be > 0");
+  }
+  nn::ConfigureTorchThreads();
+  const int64_t z = config.latent_dim;
+  nn::StochasticPolicyOptions p;
+  p.input_dim = spaces.obs_dim + z;
+  p.action_dim = spaces.action_dim;
+  p.num_actions = spaces.num_actions;
+  p.hidden_dim = config.hidden_dim;
+  p.num_layers = config.num_layers;
+  p.init_std = config.init_std;
+  p.min_std = config.min_std;
+  p.max_std = config.max_std;
+  policy_ = nn::StochasticPolicy(p, generator_);
+
+  nn::StochasticPolicyOptions e;
+  e.input_dim = spaces.num_tasks;
+  e.action_dim = z;
+  e.hidden_dim = config.encoder_hidden_dim;
+  e.num_layers = config.encoder_num_layers;
+  e.init_std = config.encoder_init_std;
+  e.min_std = config.encoder_min_std;
+  e.max_std = config.encoder_max_std;
+  e.output_gain = 1.0;  // tasks start with distinct latents
+  e.tanh_mean = true;
+  encoder_ = nn::StochasticPolicy(e, generator_);
+
+  nn::StochasticPolicyOptions q;
+  q.input_dim = config.inference_window * spaces.obs_dim;
+  q.action_dim = z;
+  q.hidden_dim = config.inference_hidden_dim;
+  q.num_layers = config.inference_num_layers;
+  q.init_std = config.inference_init_std;
+  q.min_std = config.inference_min_std;
+  q.max_std = config.inference_max_std;
+  q.output_gain = 1.0;
+  q.tanh_mean = true;
+  inference_ = nn::StochasticPolicy(q, generator_);
+
+  policy_optimizer_ = nn::FlatAdam(policy_->num_params(), Adam(config.lr));
+  encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), Adam(config.lr));
+  inference_optimizer_ = nn::FlatAdam(inference_->num_params(), Adam(config.inference_lr));
+  const int64_t baseline_dim = spaces.obs_dim + spaces.num_tasks + z;
+  if (config.baseline == "mlp") {
+    value_ = nn::ValueNetwork(baseline_dim, config.vf_hidden_dim, config.vf_num_layers, 1,
+                              generator_);
+    value_optimizer_ = nn::FlatAdam(value_->num_params(), Adam(config.vf_lr));
+  } else {
+    linear_ = std::make_unique<rl::LinearFeatureBaseline>(baseline_dim);
+  }
+}
+
+torch::Tensor TePpoLearner::OneHot(const torch::Tensor& task_index) const {
+  return torch::one_hot(task_index, spaces_.num_tasks).to(torch::kFloat32);
+}
+
+torch::Tensor TePpoLearner::BaselineInput(const torch::Tensor& obs, const torch::Tensor& one_hot,
+                                          const torch::Tensor& latent) const {
+  return torch::cat({obs, one_hot, latent}, -1);
+}
+
+torch::Tensor TePpoLearner::Values(const torch::Tensor& x, const torch::Tensor& t) const {
+  torch::NoGradGuard no_grad;
+  if (value_) return value_->Forward(x);
+  return linear_->Predict(x, t);
+}
+
+torch::Tensor TePpoLearner::TaskLatentMeans() const {
+  torch::NoGradGuard no_grad;
+  return encoder_->Forward(torch::eye(spaces_.num_tasks, torch::kFloat32)).mean;
+}
+
+ActorState TePpoLearner::Initial(int64_t num_envs) {
+  c10::InferenceMode inference;
+  ActorState state;
+  state.latent = torch::full({num_envs, config_.latent_dim},
+                             std::numeric_limits<float>::quiet_NaN(), torch::kFloat32);
+  return state;
+}
+
+void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& state) {
+  c10::InferenceMode inference;
+  if (!state.latent.defined() || state.latent.size(0) != envs.size(0)) {
+    state = Initial(envs.size(0));
+    return;
+  }
+  state.latent = torch::where(envs.to(torch::kBool).unsqueeze(1),
+                              torch::full({}, std::numeric_limits<float>::quiet_NaN()),
+                              state.latent);
+}
+
+ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
+                            ActorState& state, ActMode mode) {
+  c10::InferenceMode inference;
+  const int64_t n = obs.size(0);
+  if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim || task_index.dim() != 1 ||
+      task_index.size(0) != n) {
+    throw Error("te_ppo actor: expected obs (N, " + std::to_string(spaces_.obs_dim) +
+                ") and task_index (N)");
+  }
+  const nn::ActionDistribution latent_dist = encoder_->Forward(OneHot(task_index));
+  torch::Tensor latent;
+  if (mode == ActMode::kDeterministic) {
+    latent = latent_dist.mean;
+  } else {
+    if (!state.latent.defined() || state.latent.size(0) != n) state = Initial(n);
+    const torch::Tensor fresh = state.latent.select(1, 0).isnan();
+    if (fresh.any().item<bool>()) {
+      state.latent =
+          torch::where(fresh.unsqueeze(1), latent_dist.Sample(generator_), state.latent);
+    }
+    latent = state.latent;
+  }
+  const nn::ActionDistribution d = policy_->Forward(torch::cat({obs, latent}, -1));
+  ActOutput out;
+  out.action = mode == ActMode::kSample ? d.Sample(generator_) : d.Mode();
+  out.log_prob = d.LogProb(out.action);
+  out.latent = latent.clone();
+  return out;
+}
+
+torch::Tensor TePpoLearner::InferenceWindows(const torch::Tensor& obs, const torch::Tensor& ended,
+                                             int64_t window) {
+  const int64_t steps = obs.size(0), envs = obs.size(1), d = obs.size(2);
+  torch::Tensor win = torch::empty({steps, envs, window, d}, obs.options());
+  for (int64_t t = steps - 1; t >= 0; --t) {
+    const torch::Tensor here = obs[t].unsqueeze(1).expand({envs, window, d});
+    if (t == steps - 1 || window == 1) {
+      win[t].copy_(here);
+      continue;
+    }
+    // ended at t: the window stays on s_t; else it continues with t + 1's window
+    const torch::Tensor next =
+        torch::cat({obs[t].unsqueeze(1), win[t + 1].narrow(1, 0, window - 1)}, 1);
+    win[t].copy_(torch::where(ended[t].to(torch::kBool).view({envs, 1, 1}), here, next));
+  }
+  return win.reshape({steps * envs, window * d});
+}
+
+Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
+  if (!rollout.latents.defined() || rollout.latents.size(2) != config_.latent_dim) {
+    throw Error("te_ppo update: the rollout carries no latents of size " +
+                std::to_string(config_.latent_dim));
+  }
+  const int64_t b = rollout.size();
+  const int64_t num_tasks = spaces_.num_tasks;
+  const torch::Tensor obs = rollout.FlatObs();
+  const torch::Tensor tasks = rollout.FlatTasks();
+  const torch::Tensor one_hot = OneHot(tasks);
+  const torch::Tensor latent = rollout.latents.reshape({b, config_.latent_dim});
+  const torch::Tensor t = rollout.episode_steps.reshape({b});
+  const torch::Tensor actions = rollout.FlatActions();
+  const torch::Tensor old_log_probs = rollout.log_probs.reshape({b});
+  const torch::Tensor windows =
+      InferenceWindows(rollout.obs, rollout.ended, config_.inference_window);
+  const torch::Tensor all_tasks = torch::eye(num_tasks, torch::kFloat32);
+
+  Metrics metrics;
+  torch::Tensor noise, x_value;
+  {
+    torch::NoGradGuard no_grad;
+    // the sampling noise of each step's latent under the encoder that drew it
+    const nn::ActionDistribution enc = encoder_->Forward(all_tasks);
+    noise = (latent - enc.mean.index_select(0, tasks)) *
+            torch::exp(-enc.log_std.index_select(0, tasks));
+    x_value = BaselineInput(obs, one_hot, latent);
+    rollout.values.copy_(Values(x_value, t).reshape(rollout.values.sizes()));
+    const torch::Tensor final_x = BaselineInput(
+        rollout.final_obs.reshape({b, spaces_.obs_dim}), one_hot, latent);
+    const torch::Tensor boot = Values(final_x, t + 1).reshape(rollout.values.sizes());
+    rollout.bootstrap_values.copy_(boot * rollout.ended * (1.0 - rollout.terminated));
+  }
+
+  // 1. the augmented rewards
+  const torch::Tensor raw_rewards = rollout.rewards.clone();
+  {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor ce = SoftplusIf(
+        config_.softplus_entropy, (-inference_->Forward(windows).LogProb(latent)).clamp(-3.0, 3.0));
+    torch::Tensor bonus = -config_.inference_ce_coeff * ce;
+    if (config_.entropy_method == "max") {
+      bonus = bonus + config_.entropy_coeff * SoftplusIf(config_.softplus_entropy, -old_log_probs);
+    }
+    rollout.rewards.add_(bonus.reshape(rollout.rewards.sizes()));
+    metrics.Set("inference_ce", ce.mean().item<double>());
+    metrics.Set("reward_bonus", bonus.mean().item<double>());
+  }
+  // 2. advantages
+  rollout.ComputeAdvantages(config_.discount, config_.gae_lambda);
+  if (linear_) linear_->Fit(x_value, t, rollout.DiscountedReturns(config_.discount).reshape({b}));
+  rollout.rewards.copy_(raw_rewards);
+  const torch::Tensor returns = rollout.returns.reshape({b});
+  torch::Tensor adv = rollout.advantages.reshape({b});
+  if (config_.center_advantages && b > 1) adv = (adv - adv.mean()) / (adv.std() + 1e-8);
+  metrics.Set("explained_variance", ExplainedVariance(rollout.values.reshape({b}), returns));
+
+  // 3. policy and encoder
+  const double regularizer =
+      config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
+  const int64_t mb = std::min(config_.minibatch_size, b);
+  double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0, enc_entropy = 0;
+  int64_t count = 0;
+  for (int64_t e = 0; e < config_.epochs; ++e) {
+    policy_loss = value_loss = entropy = kl = clipped = enc_entropy = 0;
+    count = 0;
+    const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
+    for (int64_t lo = 0; lo < b; lo += mb) {
+      const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
+      const torch::Tensor row_tasks = tasks.index_select(0, rows);
+      const nn::ActionDistribution enc = encoder_->Forward(all_tasks);
+      const torch::Tensor z = enc.mean.index_select(0, row_tasks) +
+                              torch::exp(enc.log_std.index_select(0, row_tasks)) *
+                                  noise.index_select(0, rows);
+      const nn::ActionDistribution d =
+          policy_->Forward(torch::cat({obs.index_select(0, rows), z}, -1));
+      const ClippedSurrogate surrogate =
+          ClippedSurrogateLoss(d.LogProb(actions.index_select(0, rows)),
+                               old_log_probs.index_select(0, rows), adv.index_select(0, rows),
+                               config_.clip_range);
+      const torch::Tensor ent = d.Entropy().mean();
+      const torch::Tensor task_entropy = (enc.log_std + kLogSqrt2PiE).sum(-1).mean();
+      const torch::Tensor loss =
+          surrogate.loss - regularizer * ent - config_.encoder_entropy_coeff * task_entropy;
+      policy_->ZeroGrad();
+      encoder_->ZeroGrad();
+      loss.backward();
+      ClipGradNorm(policy_->flat_grad(), config_.max_grad_norm);
+      policy_optimizer_.Step(policy_->flat(), policy_->flat_grad());
+      encoder_optimizer_.Step(encoder_->flat(), encoder_->flat_grad());
+      policy_loss += loss.item<double>();
+      entropy += ent.item<double>();
+      enc_entropy += task_entropy.item<double>();
+      kl += surrogate.approx_kl;
+      clipped += surrogate.clip_fraction;
+      if (value_) {
+        const torch::Tensor v = value_->Forward(x_value.index_select(0, rows));
+        const torch::Tensor vloss = (v - returns.index_select(0, rows)).square().mean();
+        value_->ZeroGrad();
+        vloss.backward();
+        value_optimizer_.Step(value_->flat(), value_->flat_grad());
+        value_loss += vloss.item<double>();
+      }
+      ++count;
+    }
+  }
+  if (count > 0) {
+    metrics.Set("policy_loss", policy_loss / count);
+    if (value_) metrics.Set("value_loss", value_loss / count);
+    metrics.Set("entropy", entropy / count);
+    metrics.Set("encoder_entropy", enc_entropy / count);
+    metrics.Set("approx_kl", kl / count);
+    metrics.Set("clip_fraction", clipped / count);
+  }
+
+  // 4. inference network: discounted maximum likelihood of the episode latents
+  const torch::Tensor weights = torch::pow(config_.discount, t);
+  const int64_t imb = std::min(config_.inference_minibatch_size, b);
+  double inference_loss = 0;
+  int64_t inference_count = 0;
+  for (int64_t e = 0; e < config_.inference_epochs; ++e) {
+    inference_loss = 0;
+    inference_count = 0;
+    const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
+    for (int64_t lo = 0; lo < b; lo += imb) {
+      const torch::Tensor rows = perm.narrow(0, lo, std::min(imb, b - lo));
+      const torch::Tensor ll =
+          inference_->Forward(windows.index_select(0, rows)).LogProb(latent.index_select(0, rows));
+      const torch::Tensor loss = -(weights.index_select(0, rows) * ll).mean();
+      inference_->ZeroGrad();
+      loss.backward();
+      inference_optimizer_.Step(inference_->flat(), inference_->flat_grad());
+      inference_loss += loss.item<double>();
+      ++inference_count;
+    }
+  }
+  if (inference_count > 0) metrics.Set("inference_loss", inference_loss / inference_count);
+  {
+    torch::NoGradGuard no_grad;
+    const torch::Tensor error = inference_->Forward(windows).mean - latent;
+    metrics.Set("inference_rmse", error.square().mean().sqrt().item<double>());
+    if (num_tasks > 1) {
+      // how far apart the tasks' latents are: the smallest distance between two means
+      const torch::Tensor means = encoder_->Forward(all_tasks).mean;
+      const torch::Tensor dist = torch::cdist(means.unsqueeze(0), means.unsqueeze(0)).squeeze(0);
+      const torch::Tensor off_diagonal = dist + torch::eye(num_tasks) * 1e9;
+      metrics.Set("latent_min_distance", off_diagonal.min().item<double>());
+    }
+  }
+  ++num_updates_;
+  return metrics;
+}
+
+void TePpoLearner::Save(torch::serialize::OutputArchive& archive) const {
+  // the key names the algorithm; PPO and TRPO checkpoints do not have it
+  archive.write("te_ppo_latent_dim", torch::tensor(config_.latent_dim, torch::kInt64));
+  archive.write("num_tasks", torch::tensor(spaces_.num_tasks, torch::kInt64));
+  WriteModule(archive, "policy", *policy_);
+  WriteModule(archive, "encoder", *encoder_);
+  WriteModule(archive, "inference", *inference_);
+  WriteOptimizer(archive, "policy_optimizer", policy_optimizer_);
+  WriteOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
+  WriteOptimizer(archive, "inference_optimizer", inference_optimizer_);
+  if (value_) {
+    WriteModule(archive, "value", *value_);
+    WriteOptimizer(archive, "value_optimizer", value_optimizer_);
+  } else {
+    archive.write("linear_baseline", linear_->coefficients());
+  }
+  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
+  archive.write("generator", generator_.get_state());
+}
+
+void TePpoLearner::Load(torch::serialize::InputArchive& archive) {
+  torch::Tensor latent_dim, num_tasks, num_updates, state;
+  if (!archive.try_read("te_ppo_latent_dim", latent_dim) ||
+      !archive.try_read("num_tasks", num_tasks) ||
+      latent_dim.item<int64_t>() != config_.latent_dim ||
+      num_tasks.item<int64_t>() != spaces_.num_tasks) {
+    throw Error("te_ppo checkpoint: not a TE-PPO checkpoint with latent_dim " +
+                std::to_string(config_.latent_dim) + " and " +
+                std::to_string(spaces_.num_tasks) + " tasks");
+  }
+  ReadModule(archive, "policy", *policy_);
+  ReadModule(archive, "encoder", *encoder_);
+  ReadModule(archive, "inference", *inference_);
+  ReadOptimizer(archive, "policy_optimizer", policy_optimizer_);
+  ReadOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
+  ReadOptimizer(archive, "inference_optimizer", inference_optimizer_);
+  if (value_) {
+    ReadModule(archive, "value", *value_);
+    ReadOptimizer(archive, "value_optimizer", value_optimizer_);
+  } else {
+    torch::Tensor coefficients;
+    archive.read("linear_baseline", coefficients);
+    linear_->set_coefficients(coefficients);
+  }
+  archive.read("num_updates", num_updates);
+  num_updates_ = num_updates.item<int64_t>();
+  archive.read("generator", state);
+  generator_.set_state(state);
+}
+
+}  // namespace manyworlds::agents
