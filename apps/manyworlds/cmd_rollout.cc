@@ -1,5 +1,6 @@
 // manyworlds rollout --env ID: seeded episodes with a policy, per-episode
-// table and summary (or RolloutSummary::ToJson with --json).
+// table and summary (or RolloutSummary::ToJson with --json). A trained
+// policy (--policy checkpoint:RUN_DIR) runs through RunCheckpointRollout.
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -7,6 +8,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
 
 namespace manyworlds::cli {
@@ -65,7 +67,25 @@ void RunGroupRollout(Env& env, const EnvMaker& make_env, const std::vector<TaskG
   table.Print(std::cout);
 }
 
+constexpr const char* kCheckpointPrefix = "checkpoint:";
+
 void RunRollout(const RolloutArgs& args) {
+  if (args.policy.rfind(kCheckpointPrefix, 0) == 0) {
+#ifdef MANYWORLDS_HAS_AGENTS
+    if (!args.options.empty()) {
+      throw ConfigError("rollout: --option does not apply to a checkpoint policy (the run's "
+                        "config fixes the env options)");
+    }
+    RunCheckpointRollout(args.policy.substr(std::string(kCheckpointPrefix).size()), args.env,
+                         args.episodes, args.seed, args.json);
+    return;
+#else
+    throw ConfigError("rollout: this build has no agents (libtorch), so no checkpoint policy");
+#endif
+  }
+  if (args.env.empty()) {
+    throw ConfigError("rollout: --env is required (unless --policy checkpoint:RUN_DIR)");
+  }
   CheckPolicyName(args.policy);
   const nlohmann::json options = ParseEnvOptions(args.options);
   auto env = Make(args.env, options);
@@ -98,8 +118,15 @@ void RunRollout(const RolloutArgs& args) {
 void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
   auto args = std::make_shared<RolloutArgs>();
   CLI::App* cmd = app.add_subcommand("rollout", "Run seeded episodes of a policy in one env");
-  cmd->add_option("--env", args->env, "env id (see `manyworlds envs`)")->required();
-  cmd->add_option("--policy", args->policy, "policy: random, or scripted (manipulation tasks and benchmarks)")->capture_default_str();
+  cmd->add_option("--env", args->env,
+                  "env id (see `manyworlds envs`); with a checkpoint policy, optional (the "
+                  "run's env)");
+  cmd->add_option("--policy", args->policy,
+                  "policy: random, scripted (manipulation tasks and benchmarks), or "
+                  "checkpoint:RUN_DIR (a trained run's latest checkpoint, or "
+                  "checkpoint:RUN_DIR/checkpoints/step_N; deterministic actions on every task "
+                  "of the run)")
+      ->capture_default_str();
   cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1); for a benchmark, the first N variations of each task")
       ->capture_default_str()
       ->check(AtLeastOne());

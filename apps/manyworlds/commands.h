@@ -7,6 +7,9 @@
 #ifndef APPS_MANYWORLDS_COMMANDS_H_
 #define APPS_MANYWORLDS_COMMANDS_H_
 
+#include <cstdint>
+#include <string>
+
 #include <CLI/CLI.hpp>
 
 namespace manyworlds::cli {
@@ -28,6 +31,11 @@ void AddRenderCommand(CLI::App& app, CommandContext& context);
 // agents layer is (MANYWORLDS_HAS_AGENTS).
 void AddTrainCommand(CLI::App& app, CommandContext& context);
 void AddEvalCommand(CLI::App& app, CommandContext& context);
+// `rollout --policy checkpoint:PATH`: seeded episodes of a trained run's
+// policy (PATH a run directory or one of its checkpoints) on every task of
+// the run; env_id, if not empty, must be the run's env.
+void RunCheckpointRollout(const std::string& path, const std::string& env_id, int episodes,
+                          uint64_t seed, bool json);
 // `bench agent`, added under the `bench` command.
 void AddBenchAgentSubcommand(CLI::App& bench, CommandContext& context);
 

@@ -1,7 +1,8 @@
 // manyworlds train CONFIG.yaml [key=value ...] | --resume RUN_DIR
 // manyworlds eval RUN_DIR [--episodes N] [--checkpoint latest|step_N|DIR] [--json]
+// manyworlds rollout --policy checkpoint:RUN_DIR (RunCheckpointRollout)
 //
-// Training and evaluation of multi-task SAC (experiments/trainer.h). Results
+// Training and evaluation of every registered algorithm (experiments/trainer.h). Results
 // go to the run directory; stdout gets the per-task success table (or JSON);
 // stderr gets a progress line when it is a terminal or with --progress.
 #include <unistd.h>
@@ -240,11 +241,66 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
 
 }  // namespace
 
+void RunCheckpointRollout(const std::string& path, const std::string& env_id, int episodes,
+                          uint64_t seed, bool json) {
+  // PATH is a run directory, or a checkpoint inside one (RUN/checkpoints/step_N)
+  fs::path run_dir = path, checkpoint;
+  if (fs::exists(fs::path(path) / "state.json") && !fs::exists(fs::path(path) / "config.yaml")) {
+    checkpoint = path;
+    run_dir = fs::path(path).parent_path().parent_path();
+  }
+  const experiments::RunInfo run = experiments::RunInfo::Read(run_dir);
+  if (checkpoint.empty()) checkpoint = FindCheckpoint(run_dir, "latest");
+  if (!env_id.empty() && env_id != run.config.env.id) {
+    throw ConfigError("rollout: --env '" + env_id + "' is not the env of run '" +
+                      run_dir.string() + "' ('" + run.config.env.id +
+                      "'); leave --env out to use the run's");
+  }
+  const EvalResult result = experiments::EvaluateCheckpoint(run, checkpoint, episodes, seed);
+  if (json) {
+    nlohmann::json tasks = nlohmann::json::array();
+    for (const auto& t : result.per_task) {
+      nlohmann::json rows = nlohmann::json::array();
+      for (const auto& e : t.episodes) {
+        rows.push_back({{"return", e.episode_return},
+                        {"length", e.length},
+                        {"success", e.success ? nlohmann::json(*e.success) : nlohmann::json()}});
+      }
+      tasks.push_back({{"task", t.task},
+                       {"episodes", rows},
+                       {"mean_return", t.mean_return},
+                       {"success_rate", t.success ? nlohmann::json(*t.success) : nlohmann::json()}});
+    }
+    PrintJson({{"checkpoint", checkpoint.string()},
+               {"step", result.step},
+               {"seed", seed},
+               {"tasks", tasks},
+               {"mean_return", result.mean_return},
+               {"success_rate", result.mean_success ? nlohmann::json(*result.mean_success)
+                                                    : nlohmann::json()}});
+    return;
+  }
+  Table table({"task", ">episode", ">return", ">length", "success"});
+  for (const auto& t : result.per_task) {
+    for (size_t i = 0; i < t.episodes.size(); ++i) {
+      const auto& e = t.episodes[i];
+      table.AddRow({t.task, std::to_string(i), Fixed(e.episode_return, 3),
+                    std::to_string(e.length), e.success ? (*e.success ? "yes" : "no") : "-"});
+    }
+  }
+  table.Print(std::cout);
+  std::cout << run_dir.string() << " (" << checkpoint.filename().string() << ", step "
+            << result.step << "): " << result.per_task.size() << " tasks x " << episodes
+            << " episodes, mean return " << Fixed(result.mean_return, 3) << ", success rate "
+            << Success(result.mean_success) << "\n";
+}
+
 void AddTrainCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "train", "Train multi-task SAC; writes config.yaml, metrics, evaluations, checkpoints "
-               "and summary.json into the run directory");
+      "train", "Train any registered algorithm (agent.algo: sac, ppo, trpo, te_ppo); writes "
+               "config.yaml, metrics, evaluations, checkpoints and summary.json into the run "
+               "directory");
   cmd->add_option("args", args->positional,
                   "CONFIG [key=value ...]: a YAML file (see configs/) and Hydra-style "
                   "overrides such as experiment.seed=2 agent.hidden_dim=64");

@@ -249,6 +249,33 @@ TEST(CliTrainTest, PpoTrainsEvaluatesAndResumesFromTheCommandLine) {
   EXPECT_EQ(json["step"], 1500);
   EXPECT_EQ(json["per_task"].size(), 4u);
   EXPECT_TRUE(fs::exists(dir / "runs" / "ppo" / "summary.json"));
+
+  // the trained policy through `rollout --policy checkpoint:RUN_DIR`: per-episode
+  // records whose means are eval's for the same seed
+  r = RunCli("rollout --policy checkpoint:runs/ppo --episodes 2 --seed 5 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rollout = nlohmann::json::parse(r.out);
+  EXPECT_EQ(rollout["step"], 1500);
+  ASSERT_EQ(rollout["tasks"].size(), 4u);
+  for (const auto& task : rollout["tasks"]) {
+    ASSERT_EQ(task["episodes"].size(), 2u);
+    const double mean = (task["episodes"][0]["return"].get<double>() +
+                         task["episodes"][1]["return"].get<double>()) / 2;
+    EXPECT_NEAR(task["mean_return"].get<double>(), mean, 1e-9);
+  }
+  EXPECT_EQ(RunCli("rollout --policy checkpoint:runs/ppo --episodes 2 --seed 5 --json", dir).out,
+            r.out);  // seeded
+  r = RunCli("rollout --policy checkpoint:runs/ppo/checkpoints/step_000000001500 --episodes 1",
+             dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("cartpole/3"), std::string::npos) << r.out;
+  r = RunCli("rollout --policy checkpoint:runs/ppo --env point-nav", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+  EXPECT_NE(r.err.find("cartpole"), std::string::npos) << r.err;
+  r = RunCli("rollout --policy checkpoint:runs/missing", dir);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
 }
 
 }  // namespace

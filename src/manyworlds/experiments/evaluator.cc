@@ -73,6 +73,8 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
   torch::Tensor task_index = torch::empty({n}, torch::kInt64);
   for (int64_t i = 0; i < n; ++i) task_index[i] = i / slots_;
 
+  std::vector<std::vector<EpisodeResult>> episodes(num_tasks,
+                                                   std::vector<EpisodeResult>(episodes_));
   std::vector<double> ep_return(n), ep_length(n);
   std::vector<char> ep_success(n), active(n);
   for (int64_t first = 0; first < episodes_; first += slots_) {
@@ -114,6 +116,10 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
           returns[t] += ep_return[i];
           lengths[t] += ep_length[i];
           successes[t] += ep_success[i];
+          EpisodeResult& record = episodes[t][first + i % slots_];
+          record.episode_return = ep_return[i];
+          record.length = static_cast<int64_t>(ep_length[i]);
+          if (facts_.success_index >= 0) record.success = ep_success[i] != 0;
           active[i] = 0;
           --remaining;
         }
@@ -130,6 +136,7 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
     r.mean_return = returns[t] / static_cast<double>(episodes_);
     r.mean_length = lengths[t] / static_cast<double>(episodes_);
     if (facts_.success_index >= 0) r.success = successes[t] / static_cast<double>(episodes_);
+    r.episodes = std::move(episodes[t]);
     sum_success += r.success.value_or(0.0);
     sum_return += r.mean_return;
     result.per_task.push_back(std::move(r));

@@ -37,11 +37,19 @@ class Actor;
 
 namespace manyworlds::experiments {
 
+// One evaluation episode.
+struct EpisodeResult {
+  double episode_return = 0.0;
+  int64_t length = 0;
+  std::optional<bool> success;  // absent for envs without `success`
+};
+
 struct TaskEvalResult {
   std::string task;
   std::optional<double> success;  // success rate in [0, 1]; absent without `success`
   double mean_return = 0.0;
   double mean_length = 0.0;
+  std::vector<EpisodeResult> episodes;  // in episode order (not in ToJson)
 };
 
 struct EvalResult {

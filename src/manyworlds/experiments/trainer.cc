@@ -158,13 +158,14 @@ std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskS
 
 }  // namespace
 
-EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes) {
+EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes,
+                              std::optional<uint64_t> seed) {
   const Registry& registry = DefaultRegistry();
   const EnvFacts facts = InspectEnvs(run.tasks, registry);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
   algorithm->LoadPolicy(checkpoint);
-  Evaluator evaluator(run.tasks, registry, episodes, MixSeed(run.config.experiment.seed,
-                                                             kEvalSeedStream),
+  Evaluator evaluator(run.tasks, registry, episodes,
+                      seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
                       run.config.experiment.num_threads);
   EvalResult result = evaluator.Run(algorithm->actor());
   // the step the checkpoint was taken at

@@ -103,9 +103,10 @@ struct RunInfo {
 };
 
 // Evaluates the learner saved in a checkpoint directory (learner.pt) on the
-// run's tasks with `episodes` per task. Throws Error on a corrupt checkpoint.
+// run's tasks with `episodes` per task, seeded by the run's evaluation seed
+// or by `seed` when given. Throws Error on a corrupt checkpoint.
 EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
-                              int64_t episodes);
+                              int64_t episodes, std::optional<uint64_t> seed = std::nullopt);
 
 class Trainer {
  public:
