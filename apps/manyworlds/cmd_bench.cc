@@ -71,6 +71,7 @@ void AddBenchCommand(CLI::App& app, CommandContext& context) {
   cmd->callback([args] { RunBenchEnv(*args); });
 #ifdef MANYWORLDS_HAS_AGENTS
   AddBenchAgentSubcommand(*bench, context);
+  AddBenchCollectSubcommand(*bench, context);
 #endif
 }
 

@@ -38,6 +38,8 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
                           uint64_t seed, bool json);
 // `bench agent`, added under the `bench` command.
 void AddBenchAgentSubcommand(CLI::App& bench, CommandContext& context);
+// `bench collect`, likewise.
+void AddBenchCollectSubcommand(CLI::App& bench, CommandContext& context);
 
 }  // namespace manyworlds::cli
 

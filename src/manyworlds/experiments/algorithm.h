@@ -52,6 +52,11 @@ class Algorithm {
 // CheckAlgorithmEnvs. Throws ConfigError on a config it cannot run.
 std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup);
 
+// The algorithm of a config set up for a task set (the same construction for
+// training, evaluating a checkpoint and benchmarking collection).
+std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
+                                          const EnvFacts& facts);
+
 }  // namespace manyworlds::experiments
 
 #endif  // MANYWORLDS_EXPERIMENTS_ALGORITHM_H_

@@ -146,8 +146,8 @@ RunInfo RunInfo::Read(const fs::path& run_dir) {
 
 namespace {
 
-// An algorithm set up for a run's tasks (the same construction for training
-// and for evaluating a checkpoint).
+}  // namespace
+
 std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
                                           const EnvFacts& facts) {
   CheckAlgorithmEnvs(config.agent, facts, tasks);
@@ -155,8 +155,6 @@ std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskS
                        facts.episode_length};
   return MakeAlgorithm(setup);
 }
-
-}  // namespace
 
 EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes,
                               std::optional<uint64_t> seed) {
