@@ -43,6 +43,14 @@ double ExplainedVariance(const torch::Tensor& prediction, const torch::Tensor& t
   return 1.0 - (target - prediction).var(/*unbiased=*/false).item<double>() / var;
 }
 
+void RequireFinite(const torch::Tensor& t, const char* algo, const char* what) {
+  if (!torch::isfinite(t).all().item<bool>()) {
+    throw Error(std::string(algo) + " update: " + what +
+                " are not finite (the training diverged; try a smaller learning rate or "
+                "another baseline)");
+  }
+}
+
 double ClipGradNorm(const torch::Tensor& grad, double max_norm) {
   const double norm = grad.norm().item<double>();
   if (max_norm > 0 && norm > max_norm) grad.mul_(max_norm / (norm + 1e-6));
@@ -136,6 +144,8 @@ Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
     raw_rewards = rollout.rewards.clone();
     rollout.rewards.add_(-config_.entropy_coeff * rollout.log_probs);
   }
+  RequireFinite(rollout.values, algo_name(), "the baseline's values");
+  RequireFinite(rollout.bootstrap_values, algo_name(), "the baseline's values");
   rollout.ComputeAdvantages(config_.discount, config_.gae_lambda);
   if (linear_) linear_->Fit(x, t, rollout.DiscountedReturns(config_.discount).reshape({b}));
   if (raw_rewards.defined()) rollout.rewards.copy_(raw_rewards);
@@ -152,6 +162,7 @@ Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
   s.advantages = adv;
   metrics.Set("explained_variance", ExplainedVariance(rollout.values.reshape({b}), s.returns));
   const Metrics optimized = OptimizePolicy(s);
+  RequireFinite(policy_->flat(), algo_name(), "the policy's parameters");
   for (const auto& [name, value] : optimized.items()) metrics.Set(name, value);
   ++num_updates_;
   return metrics;

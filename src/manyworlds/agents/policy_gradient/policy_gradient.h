@@ -101,6 +101,11 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
 // Explained variance 1 - Var(y - y_hat) / Var(y) (a value-fit diagnostic).
 double ExplainedVariance(const torch::Tensor& prediction, const torch::Tensor& target);
 
+// Throws Error naming `what` and the algorithm if t holds a NaN or infinity
+// (a diverged baseline or policy stops the run with a reason instead of
+// sending NaN actions to the envs).
+void RequireFinite(const torch::Tensor& t, const char* algo, const char* what);
+
 // Scales grad to at most max_norm (no-op for max_norm <= 0); returns the norm.
 double ClipGradNorm(const torch::Tensor& grad, double max_norm);
 

@@ -227,16 +227,15 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
     throw Error("te_ppo actor: expected obs (N, " + std::to_string(spaces_.obs_dim) +
                 ") and task_index (N)");
   }
-  const nn::ActionDistribution latent_dist = encoder_->Forward(OneHot(task_index));
   torch::Tensor latent;
   if (mode == ActMode::kDeterministic) {
-    latent = latent_dist.mean;
+    latent = encoder_->Forward(OneHot(task_index)).mean;
   } else {
     if (!state.latent.defined() || state.latent.size(0) != n) state = Initial(n);
     const torch::Tensor fresh = state.latent.select(1, 0).isnan();
-    if (fresh.any().item<bool>()) {
-      state.latent =
-          torch::where(fresh.unsqueeze(1), latent_dist.Sample(generator_), state.latent);
+    if (fresh.any().item<bool>()) {  // the encoder runs only where episodes begin
+      const torch::Tensor drawn = encoder_->Forward(OneHot(task_index)).Sample(generator_);
+      state.latent = torch::where(fresh.unsqueeze(1), drawn, state.latent);
     }
     latent = state.latent;
   }
@@ -315,6 +314,9 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
     metrics.Set("reward_bonus", bonus.mean().item<double>());
   }
   // 2. advantages
+  RequireFinite(rollout.values, "te_ppo", "the baseline's values");
+  RequireFinite(rollout.bootstrap_values, "te_ppo", "the baseline's values");
+  RequireFinite(rollout.rewards, "te_ppo", "the augmented rewards");
   rollout.ComputeAdvantages(config_.discount, config_.gae_lambda);
   if (linear_) linear_->Fit(x_value, t, rollout.DiscountedReturns(config_.discount).reshape({b}));
   rollout.rewards.copy_(raw_rewards);
@@ -372,6 +374,7 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
       ++count;
     }
   }
+  RequireFinite(policy_->flat(), "te_ppo", "the policy's parameters");
   if (count > 0) {
     metrics.Set("policy_loss", policy_loss / count);
     if (value_) metrics.Set("value_loss", value_loss / count);
