@@ -16,4 +16,11 @@ fi
 CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)} \
   "$venv/bin/python" -m pip install -q --disable-pip-version-check . --config-settings=build-dir=build-py/peers
 export OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
-exec "$venv/bin/python" bench/peers/env_throughput.py "$@"
+# Private copies of the C++ programs, so that a rebuild of build/ during the
+# run cannot change them halfway.
+bin=$(mktemp -d)
+trap 'rm -rf "$bin"' EXIT
+cp build/manyworlds "$bin/" 2>/dev/null || true
+cp build/bench/bench_manipulation "$bin/" 2>/dev/null || true
+"$venv/bin/python" bench/peers/env_throughput.py --cli "$bin/manyworlds" \
+  --bench-manipulation "$bin/bench_manipulation" "$@"
