@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
 #include "manyworlds/nn/threads.h"
@@ -25,34 +26,6 @@ nn::AdamOptions Adam(const SacConfig& config, double lr) {
 const SacConfig& Validated(const SacConfig& config) {
   config.Validate();
   return config;
-}
-
-void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
-                 const torch::nn::Module& module) {
-  torch::serialize::OutputArchive sub;
-  module.save(sub);
-  archive.write(key, sub);
-}
-
-void ReadModule(torch::serialize::InputArchive& archive, const char* key,
-                torch::nn::Module& module) {
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  module.load(sub);
-}
-
-void WriteOptimizer(torch::serialize::OutputArchive& archive, const char* key,
-                    const nn::FlatAdam& optimizer) {
-  torch::serialize::OutputArchive sub;
-  optimizer.Save(sub);
-  archive.write(key, sub);
-}
-
-void ReadOptimizer(torch::serialize::InputArchive& archive, const char* key,
-                   nn::FlatAdam& optimizer) {
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  optimizer.Load(sub);
 }
 
 int64_t ArchCode(const std::string& architecture) {

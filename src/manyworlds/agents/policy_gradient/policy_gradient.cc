@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/threads.h"
 #include "manyworlds/rl/generator.h"
@@ -13,26 +14,6 @@ namespace {
 const PolicyGradientConfig& Validated(const PolicyGradientConfig& config) {
   config.Validate();
   return config;
-}
-
-void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
-                 const torch::nn::Module& module) {
-  torch::serialize::OutputArchive sub;
-  module.save(sub);
-  archive.write(key, sub);
-}
-
-void ReadModule(torch::serialize::InputArchive& archive, const char* key,
-                torch::nn::Module& module) {
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  module.load(sub);
-}
-
-nn::AdamOptions Adam(double lr) {
-  nn::AdamOptions o;
-  o.lr = lr;
-  return o;
 }
 
 }  // namespace
@@ -62,7 +43,7 @@ PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
     : config_(Validated(config)),
       spaces_(spaces),
       generator_(rl::MakeGenerator(config.seed)),
-      value_optimizer_(0, Adam(config.vf_lr)) {
+      value_optimizer_(0, nn::AdamOptions{.lr = config.vf_lr}) {
   if (spaces.obs_dim <= 0 || spaces.action_dim <= 0 || spaces.num_tasks <= 0) {
     throw ConfigError("policy-gradient learner: obs_dim, action_dim and num_tasks must be > 0");
   }
@@ -84,7 +65,7 @@ PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
   if (config.baseline == "mlp") {
     value_ = nn::ValueNetwork(input_dim_, config.vf_hidden_dim, config.vf_num_layers, heads,
                               generator_);
-    value_optimizer_ = nn::FlatAdam(value_->num_params(), Adam(config.vf_lr));
+    value_optimizer_ = nn::FlatAdam(value_->num_params(), nn::AdamOptions{.lr = config.vf_lr});
   } else {
     linear_ = std::make_unique<rl::LinearFeatureBaseline>(input_dim_);
   }
@@ -200,9 +181,7 @@ void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const
   WriteModule(archive, "policy", *policy_);
   if (value_) {
     WriteModule(archive, "value", *value_);
-    torch::serialize::OutputArchive sub;
-    value_optimizer_.Save(sub);
-    archive.write("value_optimizer", sub);
+    WriteOptimizer(archive, "value_optimizer", value_optimizer_);
   } else {
     archive.write("linear_baseline", linear_->coefficients());
   }
@@ -222,9 +201,7 @@ void PolicyGradientLearner::Load(torch::serialize::InputArchive& archive) {
   ReadModule(archive, "policy", *policy_);
   if (value_) {
     ReadModule(archive, "value", *value_);
-    torch::serialize::InputArchive sub;
-    archive.read("value_optimizer", sub);
-    value_optimizer_.Load(sub);
+    ReadOptimizer(archive, "value_optimizer", value_optimizer_);
   } else {
     torch::Tensor coefficients;
     archive.read("linear_baseline", coefficients);

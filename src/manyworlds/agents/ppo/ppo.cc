@@ -4,16 +4,11 @@
 #include <cmath>
 #include <sstream>
 
+#include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::agents {
 namespace {
-
-nn::AdamOptions Adam(double lr) {
-  nn::AdamOptions o;
-  o.lr = lr;
-  return o;
-}
 
 const PpoConfig& Validated(const PpoConfig& c) {
   c.Validate();
@@ -59,7 +54,7 @@ ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
 PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
     : PolicyGradientLearner(Validated(config), spaces),
       ppo_(config),
-      policy_optimizer_(policy_->num_params(), Adam(config.lr)) {}
+      policy_optimizer_(policy_->num_params(), nn::AdamOptions{.lr = config.lr}) {}
 
 Metrics PpoLearner::Epoch(const PolicySamples& s) {
   const int64_t b = s.size();
@@ -105,15 +100,11 @@ Metrics PpoLearner::OptimizePolicy(const PolicySamples& s) {
 }
 
 void PpoLearner::SaveExtra(torch::serialize::OutputArchive& archive) const {
-  torch::serialize::OutputArchive sub;
-  policy_optimizer_.Save(sub);
-  archive.write("policy_optimizer", sub);
+  WriteOptimizer(archive, "policy_optimizer", policy_optimizer_);
 }
 
 void PpoLearner::LoadExtra(torch::serialize::InputArchive& archive) {
-  torch::serialize::InputArchive sub;
-  archive.read("policy_optimizer", sub);
-  policy_optimizer_.Load(sub);
+  ReadOptimizer(archive, "policy_optimizer", policy_optimizer_);
 }
 
 }  // namespace manyworlds::agents

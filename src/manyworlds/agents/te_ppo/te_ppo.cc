@@ -7,6 +7,7 @@
 #include <string>
 
 #include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/threads.h"
 #include "manyworlds/rl/generator.h"
@@ -14,43 +15,9 @@
 namespace manyworlds::agents {
 namespace {
 
-nn::AdamOptions Adam(double lr) {
-  nn::AdamOptions o;
-  o.lr = lr;
-  return o;
-}
-
 const TePpoConfig& Validated(const TePpoConfig& c) {
   c.Validate();
   return c;
-}
-
-void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
-                 const torch::nn::Module& module) {
-  torch::serialize::OutputArchive sub;
-  module.save(sub);
-  archive.write(key, sub);
-}
-
-void ReadModule(torch::serialize::InputArchive& archive, const char* key,
-                torch::nn::Module& module) {
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  module.load(sub);
-}
-
-void WriteOptimizer(torch::serialize::OutputArchive& archive, const char* key,
-                    const nn::FlatAdam& optimizer) {
-  torch::serialize::OutputArchive sub;
-  optimizer.Save(sub);
-  archive.write(key, sub);
-}
-
-void ReadOptimizer(torch::serialize::InputArchive& archive, const char* key,
-                   nn::FlatAdam& optimizer) {
-  torch::serialize::InputArchive sub;
-  archive.read(key, sub);
-  optimizer.Load(sub);
 }
 
 torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) {
@@ -122,10 +89,10 @@ TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces
     : config_(Validated(config)),
       spaces_(spaces),
       generator_(rl::MakeGenerator(config.seed)),
-      policy_optimizer_(0, Adam(config.lr)),
-      encoder_optimizer_(0, Adam(config.lr)),
-      inference_optimizer_(0, Adam(config.inference_lr)),
-      value_optimizer_(0, Adam(config.vf_lr)) {
+      policy_optimizer_(0, nn::AdamOptions{.lr = config.lr}),
+      encoder_optimizer_(0, nn::AdamOptions{.lr = config.lr}),
+      inference_optimizer_(0, nn::AdamOptions{.lr = config.inference_lr}),
+      value_optimizer_(0, nn::AdamOptions{.lr = config.vf_lr}) {
   if (spaces.obs_dim <= 0 || spaces.action_dim <= 0 || spaces.num_tasks <= 0) {
     throw ConfigError("te_ppo learner: obs_dim, action_dim and num_tasks must be > 0");
   }
@@ -166,14 +133,15 @@ TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces
   q.tanh_mean = true;
   inference_ = nn::StochasticPolicy(q, generator_);
 
-  policy_optimizer_ = nn::FlatAdam(policy_->num_params(), Adam(config.lr));
-  encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), Adam(config.lr));
-  inference_optimizer_ = nn::FlatAdam(inference_->num_params(), Adam(config.inference_lr));
+  policy_optimizer_ = nn::FlatAdam(policy_->num_params(), nn::AdamOptions{.lr = config.lr});
+  encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), nn::AdamOptions{.lr = config.lr});
+  inference_optimizer_ =
+      nn::FlatAdam(inference_->num_params(), nn::AdamOptions{.lr = config.inference_lr});
   const int64_t baseline_dim = spaces.obs_dim + spaces.num_tasks + z;
   if (config.baseline == "mlp") {
     value_ = nn::ValueNetwork(baseline_dim, config.vf_hidden_dim, config.vf_num_layers, 1,
                               generator_);
-    value_optimizer_ = nn::FlatAdam(value_->num_params(), Adam(config.vf_lr));
+    value_optimizer_ = nn::FlatAdam(value_->num_params(), nn::AdamOptions{.lr = config.vf_lr});
   } else {
     linear_ = std::make_unique<rl::LinearFeatureBaseline>(baseline_dim);
   }
@@ -243,7 +211,7 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   ActOutput out;
   out.action = mode == ActMode::kSample ? d.Sample(generator_) : d.Mode();
   out.log_prob = d.LogProb(out.action);
-  out.latent = latent.clone();
+  out.latent = latent;  // state updates replace state.latent, never write into it
   return out;
 }
 
