@@ -67,6 +67,8 @@ void RunBenchOnPolicy(const BenchAgentArgs& args) {
     c.vf_hidden_dim = args.hidden;
     c.vf_num_layers = args.layers;
     c.seed = args.seed;
+    c.architecture = args.architecture;
+    c.pcgrad = args.pcgrad;
   };
   if (args.agent == "ppo") {
     agents::PpoConfig c;
@@ -106,6 +108,8 @@ void RunBenchOnPolicy(const BenchAgentArgs& args) {
   if (ppo != nullptr) {
     const torch::Tensor tasks = rollout.FlatTasks();
     ppo_samples.x = ppo->NetworkInput(rollout.FlatObs(), tasks);
+    ppo_samples.obs = rollout.FlatObs();
+    ppo_samples.tasks = tasks;
     ppo_samples.actions = rollout.FlatActions();
     ppo_samples.log_probs = rollout.log_probs.reshape({b});
     ppo_samples.advantages = torch::randn({b});
@@ -139,6 +143,8 @@ void RunBenchOnPolicy(const BenchAgentArgs& args) {
                {"obs_dim", args.obs_dim},
                {"action_dim", args.action_dim},
                {"tasks", args.tasks},
+               {"architecture", args.architecture},
+               {"pcgrad", args.pcgrad},
                {"unit", ppo != nullptr ? "one epoch (policy + value, minibatches)"
                                        : "one update (CG policy step + one value epoch)"},
                {"units_per_repeat", args.updates},
@@ -154,7 +160,8 @@ void RunBenchOnPolicy(const BenchAgentArgs& args) {
   std::cout << args.agent << ": " << Fixed(median, 0) << " samples/s (median of "
             << samples.size() << " repeats), batch " << b << ", minibatch " << args.minibatch
             << ", " << args.layers << " x " << args.hidden << " tanh, obs " << args.obs_dim
-            << ", action " << args.action_dim << "\n";
+            << ", action " << args.action_dim << ", " << args.architecture
+            << (args.pcgrad ? " + pcgrad" : "") << "\n";
 }
 
 void RunBenchAgent(const BenchAgentArgs& args) {

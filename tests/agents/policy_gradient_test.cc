@@ -188,6 +188,90 @@ TEST(TrpoTest, AcceptedStepsStayInsideTheTrustRegion) {
   }
 }
 
+// Serialises a learner and loads it into `other`.
+void CopyCheckpoint(const agents::PolicyGradientLearner& from, agents::PolicyGradientLearner& to) {
+  torch::serialize::OutputArchive out;
+  from.Save(out);
+  std::ostringstream bytes;
+  out.save_to(bytes);
+  torch::serialize::InputArchive in;
+  std::istringstream read(bytes.str());
+  in.load_from(read);
+  to.Load(in);
+}
+
+std::vector<torch::Tensor> ModuleValues(const agents::PolicyGradientLearner& learner) {
+  std::vector<torch::Tensor> values;
+  for (const nn::FlatModule* m : learner.policy_modules()) values.push_back(m->flat().clone());
+  return values;
+}
+
+TEST(PolicyGradientTest, LearnedTaskConditioningsTrainWithThePolicyAndRoundTrip) {
+  for (const char* arch : {"task_encoder", "moe"}) {
+    for (bool pcgrad : {false, true}) {
+      SCOPED_TRACE(std::string(arch) + (pcgrad ? " + pcgrad" : ""));
+      agents::PpoConfig config;
+      config.hidden_dim = 16;
+      config.minibatch_size = 16;
+      config.epochs = 2;
+      config.architecture = arch;
+      config.task_embedding_dim = 8;
+      config.encoder_dim = 8;
+      config.num_experts = 3;
+      config.pcgrad = pcgrad;
+      agents::PpoLearner ppo(config, Spaces(3, 2, 0, 3));
+      // policy, task encoder (and the mixture)
+      ASSERT_EQ(ppo.policy_modules().size(), std::string(arch) == "moe" ? 3u : 2u);
+      const std::vector<torch::Tensor> before = ModuleValues(ppo);
+      rl::RolloutBuffer buffer = RandomRollout(ppo, 3, 6, 5);
+      const agents::Metrics m = ppo.Update(buffer);
+      const std::vector<torch::Tensor> after = ModuleValues(ppo);
+      for (size_t i = 0; i < before.size(); ++i) {
+        EXPECT_FALSE(torch::equal(before[i], after[i])) << "module " << i << " did not train";
+      }
+      EXPECT_EQ(m.Contains("pcgrad_conflicts"), pcgrad);
+      if (pcgrad) {
+        EXPECT_GE(m.Get("pcgrad_conflicts"), 0.0);
+        EXPECT_LE(m.Get("pcgrad_conflicts"), 1.0);
+      }
+      agents::PpoLearner other(config, Spaces(3, 2, 0, 3));
+      CopyCheckpoint(ppo, other);
+      rl::RolloutBuffer b1 = RandomRollout(ppo, 3, 6, 9);
+      rl::RolloutBuffer b2 = RandomRollout(other, 3, 6, 9);
+      ppo.Update(b1);
+      other.Update(b2);
+      const std::vector<torch::Tensor> x = ModuleValues(ppo), y = ModuleValues(other);
+      for (size_t i = 0; i < x.size(); ++i) EXPECT_TRUE(torch::equal(x[i], y[i])) << i;
+      // a checkpoint of the one-hot architecture does not load
+      config.architecture = "mlp";
+      agents::PpoLearner one_hot(config, Spaces(3, 2, 0, 3));
+      EXPECT_THROW(CopyCheckpoint(ppo, one_hot), Error);
+    }
+  }
+}
+
+TEST(PolicyGradientTest, TrpoStepsTheLearnedConditioningInsideTheTrustRegion) {
+  for (bool pcgrad : {false, true}) {
+    agents::TrpoConfig config;
+    config.hidden_dim = 16;
+    config.max_kl = 0.01;
+    config.architecture = "moe";
+    config.task_embedding_dim = 8;
+    config.encoder_dim = 8;
+    config.pcgrad = pcgrad;
+    agents::TrpoLearner trpo(config, Spaces(4, 2, 0, 3));
+    const std::vector<torch::Tensor> before = ModuleValues(trpo);
+    rl::RolloutBuffer buffer = RandomRollout(trpo, 4, 6, 3);
+    const agents::Metrics m = trpo.Update(buffer);
+    ASSERT_EQ(m.Get("step_accepted"), 1.0) << m.Get("backtracks");
+    EXPECT_LE(m.Get("kl"), config.max_kl * (1 + 1e-6));
+    EXPECT_GT(m.Get("surrogate_after"), m.Get("surrogate"));
+    const std::vector<torch::Tensor> after = ModuleValues(trpo);
+    for (size_t i = 0; i < before.size(); ++i) EXPECT_FALSE(torch::equal(before[i], after[i]));
+    EXPECT_EQ(m.Contains("pcgrad_conflicts"), pcgrad);
+  }
+}
+
 TEST(PolicyGradientTest, BadConfigsAreRefusedWithTheField) {
   agents::PpoConfig c;
   c.clip_range = 1.5;
@@ -200,6 +284,14 @@ TEST(PolicyGradientTest, BadConfigsAreRefusedWithTheField) {
   agents::TrpoConfig t;
   t.min_std = 2.0;
   EXPECT_THROW(t.Validate(), ConfigError);
+  agents::PpoConfig arch;
+  arch.architecture = "transformer";
+  try {
+    arch.Validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("task_encoder, moe"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -87,6 +87,27 @@ TEST(OnPolicyLearningTest, TrpoSolvesPointNavigation) {
   EXPECT_GT(r.mean_return, -2.0);  // a random policy: about -50
 }
 
+TEST(OnPolicyLearningTest, TrpoWithALearnedTaskEncoderSolvesPointNavigation) {
+  // the task reaches the policy only through the learned encoding
+  const EvalResult r = Train(FromFile(
+      "point_nav_trpo.yaml", Scratch("trpo_te"),
+      {"experiment.steps_per_task=20000", "agent.architecture=task_encoder"}));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);
+  EXPECT_GT(r.mean_return, -2.0);
+}
+
+TEST(OnPolicyLearningTest, TrpoWithAMixtureOfEncodersAndPcGradSolvesPointNavigation) {
+  const fs::path dir = Scratch("trpo_moe");
+  const EvalResult r = Train(FromFile(
+      "point_nav_trpo.yaml", dir,
+      {"experiment.steps_per_task=6000", "agent.architecture=moe", "agent.pcgrad=true"}));
+  ASSERT_TRUE(r.mean_success.has_value());
+  EXPECT_GE(*r.mean_success, 0.95);
+  EXPECT_GT(r.mean_return, -2.0);
+  EXPECT_TRUE(ReadJsonLines(dir / "metrics.jsonl").back().contains("pcgrad_conflicts"));
+}
+
 TEST(OnPolicyLearningTest, CategoricalPpoBeatsTheUniformPolicyOnABandit) {
   TrainConfig c = FromFile("cartpole_ppo.yaml", Scratch("bandit"),
                            {"env.id=bandit", "env.num_tasks=1", "env.envs_per_task=4",
@@ -193,6 +214,24 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   // the registry lists every algorithm with its family
   ASSERT_EQ(Algorithms().size(), 4u);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
+  // every name has its own config and a builder (a short run per algorithm)
+  for (const AlgorithmInfo& info : Algorithms()) {
+    EXPECT_EQ(DefaultAgentConfig(info.name).algo(), info.name);
+    TrainConfig c = TrainConfig::Load(
+        std::nullopt, {"agent.algo=" + info.name, "env.id=point-nav", "env.num_tasks=2",
+                       "experiment.steps_per_task=200", "experiment.eval_every=0",
+                       "experiment.eval_episodes=1"});
+    if (info.family == AlgorithmFamily::kOffPolicy) {
+      c = TrainConfig::Load(std::nullopt,
+                            {"agent.algo=" + info.name, "env.id=point-nav", "env.num_tasks=2",
+                             "experiment.steps_per_task=200", "experiment.warmup_steps=100",
+                             "experiment.eval_every=0", "experiment.eval_episodes=1",
+                             "agent.hidden_dim=16", "agent.batch_size=16"});
+    }
+    c.experiment.run_dir = Scratch("registry_" + info.name).string();
+    c.Validate();
+    EXPECT_TRUE(Trainer::Create(c).Run().finished) << info.name;
+  }
   // the resolved config names its algorithm and round-trips
   const TrainConfig trpo = TrainConfig::Load(std::nullopt, {"agent.algo=trpo"});
   EXPECT_EQ(trpo.ToJson()["agent"]["algo"], "trpo");

@@ -309,34 +309,8 @@ torch::Tensor SacLearner::CriticTarget(const Batch& batch) {
 double SacLearner::PcGradBackward(const torch::Tensor& per_sample,
                                   const torch::Tensor& task_index,
                                   const std::vector<nn::FlatModule*>& modules) {
-  // Mean loss of each task present in the batch.
-  const torch::Tensor counts = torch::bincount(task_index, {}, num_tasks_);
-  const torch::Tensor present = counts.nonzero().squeeze(1);
-  const torch::Tensor task_loss =
-      torch::zeros({num_tasks_}, per_sample.options())
-          .index_add(0, task_index, per_sample)
-          .div(counts.clamp_min(1).to(per_sample.scalar_type()));
-  int64_t total = 0;
-  for (nn::FlatModule* m : modules) total += m->num_params();
-  const int64_t t = present.size(0);
-  torch::Tensor grads = torch::empty({t, total}, torch::kFloat32);
-  const int64_t* tasks = present.data_ptr<int64_t>();
-  for (int64_t i = 0; i < t; ++i) {
-    for (nn::FlatModule* m : modules) m->ZeroGrad();
-    task_loss[tasks[i]].backward({}, /*retain_graph=*/i + 1 < t);
-    int64_t offset = 0;
-    for (nn::FlatModule* m : modules) {
-      grads[i].narrow(0, offset, m->num_params()).copy_(m->flat_grad());
-      offset += m->num_params();
-    }
-  }
-  const nn::PcGradResult combined = nn::ProjectConflictingGradients(grads, generator_);
-  int64_t offset = 0;
-  for (nn::FlatModule* m : modules) {
-    m->flat_grad().copy_(combined.gradient.narrow(0, offset, m->num_params()));
-    offset += m->num_params();
-  }
-  return combined.pairs > 0 ? static_cast<double>(combined.conflicts) / combined.pairs : 0.0;
+  return nn::PcGradBackward(per_sample, task_index, num_tasks_, modules, generator_)
+      .conflict_fraction();
 }
 
 Metrics SacLearner::Update(const Batch& batch) {

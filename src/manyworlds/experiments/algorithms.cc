@@ -1,5 +1,6 @@
 #include "manyworlds/experiments/algorithms.h"
 
+#include <utility>
 #include <variant>
 
 #include "manyworlds/config/reader.h"
@@ -9,8 +10,13 @@
 namespace manyworlds::experiments {
 namespace {
 
-// Variant index of each algorithm's config in AgentConfig::params.
-constexpr size_t kSac = 0, kPpo = 1, kTrpo = 2, kTePpo = 3;
+// The default-constructed alternative `index` of AgentConfig::params (the
+// registry's order is the variant's order).
+template <size_t... I>
+void EmplaceDefault(decltype(AgentConfig::params)& params, size_t index,
+                    std::index_sequence<I...>) {
+  ((index == I ? (void)params.emplace<I>() : void()), ...);
+}
 
 void ReadSac(ConfigReader& r, agents::SacConfig& c) {
   r.Read("hidden_dim", c.hidden_dim);
@@ -134,11 +140,12 @@ const char* FamilyName(AlgorithmFamily family) {
 }
 
 AgentConfig DefaultAgentConfig(const std::string& algo) {
-  FindAlgorithm(algo);
+  const AlgorithmInfo& info = FindAlgorithm(algo);
+  const size_t index = static_cast<size_t>(&info - Algorithms().data());
   AgentConfig agent;
-  if (algo == "ppo") agent.params.emplace<kPpo>();
-  if (algo == "trpo") agent.params.emplace<kTrpo>();
-  if (algo == "te_ppo") agent.params.emplace<kTePpo>();
+  using Params = decltype(AgentConfig::params);
+  static_assert(std::variant_size_v<Params> > 0);
+  EmplaceDefault(agent.params, index, std::make_index_sequence<std::variant_size_v<Params>>());
   return agent;
 }
 

@@ -8,6 +8,8 @@
 // ends), so per-episode state such as TE-PPO's latent follows the episodes.
 // Checkpoint files: learner.pt (learner and torch generators).
 #include <chrono>
+#include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -189,26 +191,38 @@ Config Seeded(const AlgorithmSetup& s) {
 
 std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup);
 
+namespace {
+
+template <class Learner, class Config>
+std::unique_ptr<Algorithm> MakeOnPolicy(const AlgorithmSetup& setup) {
+  const auto c = Seeded<Config>(setup);
+  return std::make_unique<OnPolicyAlgorithm>(setup, std::make_unique<Learner>(c, Spaces(setup)),
+                                             c.rollout_rounds);
+}
+
+using AlgorithmBuilder = std::unique_ptr<Algorithm> (*)(const AlgorithmSetup&);
+
+// Every name of the registry (algorithms.cc) and what builds it.
+const std::map<std::string, AlgorithmBuilder>& Builders() {
+  static const std::map<std::string, AlgorithmBuilder> builders = {
+      {"sac", &MakeOffPolicyAlgorithm},
+      {"ppo", &MakeOnPolicy<agents::PpoLearner, agents::PpoConfig>},
+      {"trpo", &MakeOnPolicy<agents::TrpoLearner, agents::TrpoConfig>},
+      {"te_ppo", &MakeOnPolicy<agents::TePpoLearner, agents::TePpoConfig>},
+  };
+  return builders;
+}
+
+}  // namespace
+
 std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup) {
   const std::string algo = setup.config.agent.algo();
-  if (algo == "sac") return MakeOffPolicyAlgorithm(setup);
-  if (algo == "ppo") {
-    const auto c = Seeded<agents::PpoConfig>(setup);
-    return std::make_unique<OnPolicyAlgorithm>(
-        setup, std::make_unique<agents::PpoLearner>(c, Spaces(setup)), c.rollout_rounds);
+  const auto it = Builders().find(algo);
+  if (it == Builders().end()) {
+    FindAlgorithm(algo);  // throws for an unknown name
+    throw ConfigError("agent.algo '" + algo + "' has no implementation");
   }
-  if (algo == "trpo") {
-    const auto c = Seeded<agents::TrpoConfig>(setup);
-    return std::make_unique<OnPolicyAlgorithm>(
-        setup, std::make_unique<agents::TrpoLearner>(c, Spaces(setup)), c.rollout_rounds);
-  }
-  if (algo == "te_ppo") {
-    const auto c = Seeded<agents::TePpoConfig>(setup);
-    return std::make_unique<OnPolicyAlgorithm>(
-        setup, std::make_unique<agents::TePpoLearner>(c, Spaces(setup)), c.rollout_rounds);
-  }
-  FindAlgorithm(algo);  // throws for an unknown name
-  throw ConfigError("agent.algo '" + algo + "' has no implementation");
+  return it->second(setup);
 }
 
 }  // namespace manyworlds::experiments

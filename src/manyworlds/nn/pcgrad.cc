@@ -50,4 +50,36 @@ PcGradResult ProjectConflictingGradients(const torch::Tensor& grads, at::Generat
   return result;
 }
 
+PcGradResult PcGradBackward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
+                            int64_t num_tasks, const std::vector<FlatModule*>& modules,
+                            at::Generator& generator) {
+  // Mean loss of each task present in the batch.
+  const torch::Tensor counts = torch::bincount(task_index, {}, num_tasks);
+  const torch::Tensor present = counts.nonzero().squeeze(1);
+  const torch::Tensor task_loss = torch::zeros({num_tasks}, per_sample.options())
+                                      .index_add(0, task_index, per_sample)
+                                      .div(counts.clamp_min(1).to(per_sample.scalar_type()));
+  int64_t total = 0;
+  for (FlatModule* m : modules) total += m->num_params();
+  const int64_t t = present.size(0);
+  torch::Tensor grads = torch::empty({t, total}, torch::kFloat32);
+  const int64_t* tasks = present.data_ptr<int64_t>();
+  for (int64_t i = 0; i < t; ++i) {
+    for (FlatModule* m : modules) m->ZeroGrad();
+    task_loss[tasks[i]].backward({}, /*retain_graph=*/i + 1 < t);
+    int64_t offset = 0;
+    for (FlatModule* m : modules) {
+      grads[i].narrow(0, offset, m->num_params()).copy_(m->flat_grad());
+      offset += m->num_params();
+    }
+  }
+  PcGradResult combined = ProjectConflictingGradients(grads, generator);
+  int64_t offset = 0;
+  for (FlatModule* m : modules) {
+    m->flat_grad().copy_(combined.gradient.narrow(0, offset, m->num_params()));
+    offset += m->num_params();
+  }
+  return combined;
+}
+
 }  // namespace manyworlds::nn

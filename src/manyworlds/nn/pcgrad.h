@@ -16,7 +16,11 @@
 
 #include <cstdint>
 
+#include <vector>
+
 #include <torch/torch.h>
+
+#include "manyworlds/nn/flat_module.h"
 
 namespace manyworlds::nn {
 
@@ -25,12 +29,25 @@ struct PcGradResult {
   int64_t conflicts = 0;    // ordered pairs (i, j), i != j, with g_i . g_j < 0
   int64_t projections = 0;  // projections applied (g_i' . g_j < 0 when visited)
   int64_t pairs = 0;        // T (T - 1)
+  // conflicts / pairs (0 with one task).
+  double conflict_fraction() const {
+    return pairs > 0 ? static_cast<double>(conflicts) / static_cast<double>(pairs) : 0.0;
+  }
 };
 
 // grads: (T, N) float32, one task gradient per row (T >= 1). The orders are
 // drawn from `generator` (one torch::randperm(T) per task; none when T = 1).
 // Throws Error on a tensor of another shape or type.
 PcGradResult ProjectConflictingGradients(const torch::Tensor& grads, at::Generator& generator);
+
+// PCGrad on a loss given per sample: the mean loss of each task present in
+// task_index ((B) int64 in [0, num_tasks)) is backpropagated on its own
+// through `modules`, the per-task flat gradients (modules concatenated in
+// order) are combined as above, and the result is left in the modules'
+// flat_grad() for the optimizer step. per_sample: (B), with autograd history.
+PcGradResult PcGradBackward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
+                            int64_t num_tasks, const std::vector<FlatModule*>& modules,
+                            at::Generator& generator);
 
 }  // namespace manyworlds::nn
 

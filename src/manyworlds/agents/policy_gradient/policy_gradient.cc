@@ -5,6 +5,7 @@
 
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
 #include "manyworlds/nn/threads.h"
 #include "manyworlds/rl/generator.h"
 
@@ -38,6 +39,17 @@ double ClipGradNorm(const torch::Tensor& grad, double max_norm) {
   return norm;
 }
 
+double ClipGradNorm(const std::vector<nn::FlatModule*>& modules, double max_norm) {
+  if (modules.size() == 1) return ClipGradNorm(modules[0]->flat_grad(), max_norm);
+  double squares = 0.0;
+  for (const nn::FlatModule* m : modules) squares += m->flat_grad().square().sum().item<double>();
+  const double norm = std::sqrt(squares);
+  if (max_norm > 0 && norm > max_norm) {
+    for (const nn::FlatModule* m : modules) m->flat_grad().mul_(max_norm / (norm + 1e-6));
+  }
+  return norm;
+}
+
 PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
                                              const PolicySpaces& spaces)
     : config_(Validated(config)),
@@ -48,9 +60,17 @@ PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
     throw ConfigError("policy-gradient learner: obs_dim, action_dim and num_tasks must be > 0");
   }
   nn::ConfigureTorchThreads();
-  const bool multihead = config.architecture == "multihead";
-  input_dim_ = spaces.obs_dim + (!multihead && spaces.num_tasks > 1 ? spaces.num_tasks : 0);
-  const int64_t heads = multihead ? spaces.num_tasks : 1;
+  // Draw order from the generator: conditioning, policy, value network.
+  nn::TaskConditioningOptions c;
+  c.architecture = config.architecture;
+  c.obs_dim = spaces.obs_dim;
+  c.num_tasks = spaces.num_tasks;
+  c.task_embedding_dim = config.task_embedding_dim;
+  c.num_experts = config.num_experts;
+  c.encoder_dim = config.encoder_dim;
+  conditioning_ = std::make_unique<nn::TaskConditioning>(c, generator_);
+  input_dim_ = conditioning_->output_dim();
+  const int64_t heads = conditioning_->multihead() ? spaces.num_tasks : 1;
   nn::StochasticPolicyOptions p;
   p.input_dim = input_dim_;
   p.action_dim = spaces.action_dim;
@@ -62,6 +82,8 @@ PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
   p.max_std = config.max_std;
   p.num_heads = heads;
   policy_ = nn::StochasticPolicy(p, generator_);
+  policy_modules_.push_back(policy_.get());
+  for (nn::FlatModule* m : conditioning_->modules()) policy_modules_.push_back(m);
   if (config.baseline == "mlp") {
     value_ = nn::ValueNetwork(input_dim_, config.vf_hidden_dim, config.vf_num_layers, heads,
                               generator_);
@@ -77,9 +99,22 @@ torch::Tensor PolicyGradientLearner::Heads(const torch::Tensor& task_index) cons
 
 torch::Tensor PolicyGradientLearner::NetworkInput(const torch::Tensor& obs,
                                                   const torch::Tensor& task_index) const {
-  if (input_dim_ == spaces_.obs_dim) return obs;
-  return torch::cat({obs, torch::one_hot(task_index, spaces_.num_tasks).to(obs.scalar_type())},
-                    -1);
+  torch::NoGradGuard no_grad;
+  return conditioning_->Forward(obs, task_index);
+}
+
+nn::ActionDistribution PolicyGradientLearner::PolicyOn(const PolicySamples& s,
+                                                       const torch::Tensor& rows) const {
+  const bool all = !rows.defined();
+  const torch::Tensor head =
+      !s.head.defined() || all ? s.head : s.head.index_select(0, rows);
+  if (conditioning_->modules().empty()) {
+    return policy_->Forward(all ? s.x : s.x.index_select(0, rows), head);
+  }
+  const torch::Tensor x = all ? conditioning_->Forward(s.obs, s.tasks)
+                              : conditioning_->Forward(s.obs.index_select(0, rows),
+                                                       s.tasks.index_select(0, rows));
+  return policy_->Forward(x, head);
 }
 
 ActOutput PolicyGradientLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
@@ -133,6 +168,8 @@ Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
 
   PolicySamples s;
   s.x = x;
+  s.obs = rollout.FlatObs();
+  s.tasks = tasks;
   s.head = head;
   s.actions = rollout.FlatActions();
   s.log_probs = rollout.log_probs.reshape({b});
@@ -152,9 +189,15 @@ Metrics PolicyGradientLearner::Update(rl::RolloutBuffer& rollout) {
 double PolicyGradientLearner::ValueStep(const PolicySamples& s, const torch::Tensor& rows) {
   const torch::Tensor head = s.head.defined() ? s.head.index_select(0, rows) : torch::Tensor();
   const torch::Tensor v = value_->Forward(s.x.index_select(0, rows), head);
-  const torch::Tensor loss = (v - s.returns.index_select(0, rows)).square().mean();
+  const torch::Tensor per_sample = (v - s.returns.index_select(0, rows)).square();
+  const torch::Tensor loss = per_sample.mean();
   value_->ZeroGrad();
-  loss.backward();
+  if (config_.pcgrad) {
+    nn::PcGradBackward(per_sample, s.tasks.index_select(0, rows), spaces_.num_tasks,
+                       {value_.get()}, generator_);
+  } else {
+    loss.backward();
+  }
   value_optimizer_.Step(value_->flat(), value_->flat_grad());
   return loss.item<double>();
 }
@@ -179,6 +222,9 @@ void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const
   archive.write("algo", torch::tensor(static_cast<int64_t>(algo_name()[0]), torch::kInt64));
   archive.write("input_dim", torch::tensor(input_dim_, torch::kInt64));
   WriteModule(archive, "policy", *policy_);
+  for (size_t i = 1; i < policy_modules_.size(); ++i) {
+    WriteModule(archive, ("conditioning_" + std::to_string(i)).c_str(), *policy_modules_[i]);
+  }
   if (value_) {
     WriteModule(archive, "value", *value_);
     WriteOptimizer(archive, "value_optimizer", value_optimizer_);
@@ -199,6 +245,9 @@ void PolicyGradientLearner::Load(torch::serialize::InputArchive& archive) {
                 " checkpoint: not a checkpoint of this algorithm and network input");
   }
   ReadModule(archive, "policy", *policy_);
+  for (size_t i = 1; i < policy_modules_.size(); ++i) {
+    ReadModule(archive, ("conditioning_" + std::to_string(i)).c_str(), *policy_modules_[i]);
+  }
   if (value_) {
     ReadModule(archive, "value", *value_);
     ReadOptimizer(archive, "value_optimizer", value_optimizer_);

@@ -18,6 +18,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include <torch/torch.h>
 
@@ -25,6 +26,7 @@
 #include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
 #include "manyworlds/nn/flat_optim.h"
 #include "manyworlds/nn/stochastic_policy.h"
+#include "manyworlds/nn/task_conditioning.h"
 #include "manyworlds/rl/linear_baseline.h"
 
 namespace manyworlds::agents {
@@ -39,7 +41,9 @@ struct PolicySpaces {
 
 // One iteration's samples, flattened to B = T * N rows.
 struct PolicySamples {
-  torch::Tensor x;           // (B, input_dim) task-conditioned observations
+  torch::Tensor x;           // (B, input_dim) task-conditioned observations (no history)
+  torch::Tensor obs;         // (B, obs_dim) raw observations (learned conditionings)
+  torch::Tensor tasks;       // (B) int64 task index
   torch::Tensor head;        // (B) task index for multi-head nets, else undefined
   torch::Tensor actions;     // (B, action_dim)
   torch::Tensor log_probs;   // (B) at collection
@@ -58,9 +62,13 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
                 ActMode mode) override;
   Metrics Update(rl::RolloutBuffer& rollout) final;
 
-  // The network input x(obs, task): obs, with a one-hot task id for "mlp"
-  // with several tasks.
+  // The network input x(obs, task) of the task conditioning
+  // (nn/task_conditioning.h), without autograd history.
   torch::Tensor NetworkInput(const torch::Tensor& obs, const torch::Tensor& task_index) const;
+  // The policy on rows of the samples (all rows if `rows` is undefined),
+  // differentiable in the policy and the learned task conditioning.
+  nn::ActionDistribution PolicyOn(const PolicySamples& samples,
+                                  const torch::Tensor& rows = {}) const;
   // Value estimates (B) of task-conditioned inputs at episode steps t (B).
   torch::Tensor Values(const torch::Tensor& x, const torch::Tensor& head,
                        const torch::Tensor& t) const;
@@ -69,6 +77,9 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
   void Load(torch::serialize::InputArchive& archive) override;
 
   nn::StochasticPolicy& policy() { return policy_; }
+  // The policy and the learned parts of its task conditioning: what the
+  // policy objective trains (TRPO's flat parameter vector, in this order).
+  const std::vector<nn::FlatModule*>& policy_modules() const { return policy_modules_; }
   const PolicySpaces& spaces() const { return spaces_; }
   int64_t num_updates() const override { return num_updates_; }
   at::Generator& generator() { return generator_; }
@@ -91,7 +102,9 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
   PolicySpaces spaces_;
   int64_t input_dim_ = 0;
   at::Generator generator_;
+  std::unique_ptr<nn::TaskConditioning> conditioning_;
   nn::StochasticPolicy policy_{nullptr};
+  std::vector<nn::FlatModule*> policy_modules_;
   nn::ValueNetwork value_{nullptr};
   std::unique_ptr<rl::LinearFeatureBaseline> linear_;
   nn::FlatAdam value_optimizer_;
@@ -108,6 +121,8 @@ void RequireFinite(const torch::Tensor& t, const char* algo, const char* what);
 
 // Scales grad to at most max_norm (no-op for max_norm <= 0); returns the norm.
 double ClipGradNorm(const torch::Tensor& grad, double max_norm);
+// The same over the modules' flat gradients taken together.
+double ClipGradNorm(const std::vector<nn::FlatModule*>& modules, double max_norm);
 
 }  // namespace manyworlds::agents
 

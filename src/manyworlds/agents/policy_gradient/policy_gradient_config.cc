@@ -1,9 +1,11 @@
 #include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/task_conditioning.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -21,8 +23,13 @@ bool Positive(double x) { return std::isfinite(x) && x > 0; }
 }  // namespace
 
 void PolicyGradientConfig::Validate() const {
-  Require(architecture == "mlp" || architecture == "multihead", "architecture",
-          "one of mlp, multihead", architecture);
+  const auto& archs = nn::TaskConditioningArchitectures();
+  Require(std::find(archs.begin(), archs.end(), architecture) != archs.end(), "architecture",
+          "one of mlp, multihead, task_encoder, moe", architecture);
+  Require(task_embedding_dim > 0 && task_embedding_dim <= 65536, "task_embedding_dim",
+          "in [1, 65536]", task_embedding_dim);
+  Require(num_experts > 0 && num_experts <= 1024, "num_experts", "in [1, 1024]", num_experts);
+  Require(encoder_dim > 0 && encoder_dim <= 65536, "encoder_dim", "in [1, 65536]", encoder_dim);
   Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
   Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
   Require(Positive(min_std), "min_std", "finite and > 0", min_std);

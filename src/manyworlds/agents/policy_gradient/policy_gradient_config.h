@@ -9,7 +9,18 @@
 // learner (observations never carry a task id):
 //   "mlp"        one-hot task id appended to the observation when there are
 //                several tasks (MT-PPO / MT-TRPO as in the Meta-World paper);
-//   "multihead"  shared trunk, one output head per task for policy and value.
+//   "multihead"  shared trunk, one output head per task for policy and value;
+//   "task_encoder" a learned task encoding (width task_embedding_dim)
+//                appended to the observation (MTRL's task encoder);
+//   "moe"        CARE's mixture of num_experts state encoders (width
+//                encoder_dim) weighted by attention from the task encoding.
+// The learned encoders belong to the policy: they are trained by the policy
+// objective (PPO: their own Adam at lr; TRPO: inside the natural-gradient
+// step) and the value function reads their output detached
+// (nn/task_conditioning.h).
+// pcgrad: the policy's (and value network's) per-task gradients are combined
+// by PCGrad (nn/pcgrad.h) before each step; for TRPO, the surrogate's
+// gradient that the conjugate gradient solves against.
 // Baseline: "mlp" (a tanh value network trained by regression on the
 // lambda-returns) or "linear" (garage's LinearFeatureBaseline).
 // Entropy: "regularized" subtracts entropy_coeff * H from the policy loss;
@@ -24,7 +35,11 @@
 namespace manyworlds::agents {
 
 struct PolicyGradientConfig {
-  std::string architecture = "mlp";  // mlp | multihead
+  std::string architecture = "mlp";  // mlp | multihead | task_encoder | moe
+  int64_t task_embedding_dim = 50;   // task_encoder, moe
+  int64_t num_experts = 4;           // moe
+  int64_t encoder_dim = 50;          // moe
+  bool pcgrad = false;
   int64_t hidden_dim = 64;
   int64_t num_layers = 2;
   double init_std = 1.0;
@@ -47,6 +62,10 @@ struct PolicyGradientConfig {
   template <class F>
   void VisitFields(F&& f) {
     f("architecture", architecture);
+    f("task_embedding_dim", task_embedding_dim);
+    f("num_experts", num_experts);
+    f("encoder_dim", encoder_dim);
+    f("pcgrad", pcgrad);
     f("hidden_dim", hidden_dim);
     f("num_layers", num_layers);
     f("init_std", init_std);

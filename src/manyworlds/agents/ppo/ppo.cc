@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
 
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -13,6 +15,11 @@ namespace {
 const PpoConfig& Validated(const PpoConfig& c) {
   c.Validate();
   return c;
+}
+
+// The policy's optimizer keeps its key of the one-module layout.
+std::string PolicyOptimizerKey(size_t i) {
+  return i == 0 ? "policy_optimizer" : "conditioning_optimizer_" + std::to_string(i);
 }
 
 }  // namespace
@@ -43,6 +50,7 @@ ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
   const torch::Tensor surrogate = torch::minimum(
       ratio * advantages, ratio.clamp(1.0 - clip_range, 1.0 + clip_range) * advantages);
   ClippedSurrogate out;
+  out.per_sample = -surrogate;
   out.loss = -surrogate.mean();
   torch::NoGradGuard no_grad;
   // (r - 1) - log r: an unbiased, non-negative estimate of KL(old || new)
@@ -52,9 +60,11 @@ ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
 }
 
 PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
-    : PolicyGradientLearner(Validated(config), spaces),
-      ppo_(config),
-      policy_optimizer_(policy_->num_params(), nn::AdamOptions{.lr = config.lr}) {}
+    : PolicyGradientLearner(Validated(config), spaces), ppo_(config) {
+  for (const nn::FlatModule* m : policy_modules()) {
+    policy_optimizers_.emplace_back(m->num_params(), nn::AdamOptions{.lr = config.lr});
+  }
+}
 
 Metrics PpoLearner::Epoch(const PolicySamples& s) {
   const int64_t b = s.size();
@@ -63,20 +73,33 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
       ppo_.entropy_method == "regularized" ? ppo_.entropy_coeff : 0.0;
   const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
   double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0;
+  double pcgrad_conflicts = 0;
   int64_t count = 0;
   for (int64_t lo = 0; lo < b; lo += mb) {
     const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
-    const torch::Tensor head = s.head.defined() ? s.head.index_select(0, rows) : torch::Tensor();
-    const nn::ActionDistribution d = policy_->Forward(s.x.index_select(0, rows), head);
+    const nn::ActionDistribution d = PolicyOn(s, rows);
     const ClippedSurrogate surrogate = ClippedSurrogateLoss(
         d.LogProb(s.actions.index_select(0, rows)), s.log_probs.index_select(0, rows),
         s.advantages.index_select(0, rows), ppo_.clip_range);
-    const torch::Tensor ent = d.Entropy().mean();
+    const torch::Tensor per_sample_entropy = d.Entropy();
+    const torch::Tensor ent = per_sample_entropy.mean();
     const torch::Tensor loss = surrogate.loss - regularizer * ent;
-    policy_->ZeroGrad();
-    loss.backward();
-    ClipGradNorm(policy_->flat_grad(), ppo_.max_grad_norm);
-    policy_optimizer_.Step(policy_->flat(), policy_->flat_grad());
+    const std::vector<nn::FlatModule*>& modules = policy_modules();
+    for (nn::FlatModule* m : modules) m->ZeroGrad();
+    if (ppo_.pcgrad) {
+      const torch::Tensor per_sample =
+          regularizer > 0 ? surrogate.per_sample - regularizer * per_sample_entropy
+                          : surrogate.per_sample;
+      pcgrad_conflicts += nn::PcGradBackward(per_sample, s.tasks.index_select(0, rows),
+                                             spaces_.num_tasks, modules, generator_)
+                              .conflict_fraction();
+    } else {
+      loss.backward();
+    }
+    ClipGradNorm(modules, ppo_.max_grad_norm);
+    for (size_t i = 0; i < modules.size(); ++i) {
+      policy_optimizers_[i].Step(modules[i]->flat(), modules[i]->flat_grad());
+    }
     policy_loss += loss.item<double>();
     entropy += ent.item<double>();
     kl += surrogate.approx_kl;
@@ -90,6 +113,7 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
   m.Set("entropy", entropy / count);
   m.Set("approx_kl", kl / count);
   m.Set("clip_fraction", clipped / count);
+  if (ppo_.pcgrad) m.Set("pcgrad_conflicts", pcgrad_conflicts / count);
   return m;
 }
 
@@ -100,11 +124,15 @@ Metrics PpoLearner::OptimizePolicy(const PolicySamples& s) {
 }
 
 void PpoLearner::SaveExtra(torch::serialize::OutputArchive& archive) const {
-  WriteOptimizer(archive, "policy_optimizer", policy_optimizer_);
+  for (size_t i = 0; i < policy_optimizers_.size(); ++i) {
+    WriteOptimizer(archive, PolicyOptimizerKey(i).c_str(), policy_optimizers_[i]);
+  }
 }
 
 void PpoLearner::LoadExtra(torch::serialize::InputArchive& archive) {
-  ReadOptimizer(archive, "policy_optimizer", policy_optimizer_);
+  for (size_t i = 0; i < policy_optimizers_.size(); ++i) {
+    ReadOptimizer(archive, PolicyOptimizerKey(i).c_str(), policy_optimizers_[i]);
+  }
 }
 
 }  // namespace manyworlds::agents

@@ -7,11 +7,15 @@
 // "regularized"), then, with the MLP baseline, one Adam step of the value
 // network on mean((V(s) - R)^2) (garage optimises the two with separate
 // optimizers too). max_grad_norm > 0 clips the policy gradient's norm.
+// A learned task conditioning (task_encoder, moe) is stepped with the
+// policy, by its own Adam at the same lr, on the same loss; with pcgrad the
+// per-task gradients of both losses are combined by PCGrad first.
 // MT-PPO is this with several tasks and architecture "mlp" (one-hot id).
 #ifndef MANYWORLDS_AGENTS_PPO_PPO_H_
 #define MANYWORLDS_AGENTS_PPO_PPO_H_
 
 #include <cstdint>
+#include <vector>
 
 #include "manyworlds/agents/policy_gradient/policy_gradient.h"
 #include "manyworlds/agents/ppo/ppo_config.h"
@@ -21,6 +25,7 @@ namespace manyworlds::agents {
 // PPO's clipped surrogate on one minibatch, shared by PPO and TE-PPO.
 struct ClippedSurrogate {
   torch::Tensor loss;       // -mean(min(r A, clip(r, 1 - eps, 1 + eps) A)), differentiable
+  torch::Tensor per_sample;  // (B) the terms of that mean (negated), differentiable
   double approx_kl = 0.0;   // mean((r - 1) - log r), an estimate of KL(old || new)
   double clip_fraction = 0.0;  // share of rows with |r - 1| > eps
 };
@@ -45,7 +50,8 @@ class PpoLearner : public PolicyGradientLearner {
 
  private:
   PpoConfig ppo_;
-  nn::FlatAdam policy_optimizer_;
+  // One per policy module (policy_modules(): policy, then conditioning).
+  std::vector<nn::FlatAdam> policy_optimizers_;
 };
 
 }  // namespace manyworlds::agents

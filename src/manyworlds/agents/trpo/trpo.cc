@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -14,10 +15,16 @@ const TrpoConfig& Validated(const TrpoConfig& c) {
   return c;
 }
 
-torch::Tensor Flatten(const std::vector<torch::Tensor>& parts) {
+// Gradients of `params` as one vector; a parameter the output does not
+// depend on (undefined gradient) contributes zeros.
+torch::Tensor Flatten(const std::vector<torch::Tensor>& parts,
+                      const std::vector<torch::Tensor>& params) {
   std::vector<torch::Tensor> flat;
   flat.reserve(parts.size());
-  for (const torch::Tensor& p : parts) flat.push_back(p.reshape({-1}));
+  for (size_t i = 0; i < parts.size(); ++i) {
+    flat.push_back(parts[i].defined() ? parts[i].reshape({-1})
+                                      : torch::zeros({params[i].numel()}, params[i].options()));
+  }
   return torch::cat(flat);
 }
 
@@ -67,46 +74,84 @@ TrpoLearner::TrpoLearner(const TrpoConfig& config, const PolicySpaces& spaces)
     : PolicyGradientLearner(Validated(config), spaces), trpo_(config) {}
 
 Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
-  const std::vector<torch::Tensor>& params = policy_->params();
+  // The parameters the step moves: the policy's, then the learned task
+  // conditioning's, as one vector.
+  const std::vector<nn::FlatModule*>& modules = policy_modules();
+  std::vector<torch::Tensor> params;
+  for (const nn::FlatModule* m : modules) {
+    params.insert(params.end(), m->params().begin(), m->params().end());
+  }
+  auto flat_values = [&] {
+    std::vector<torch::Tensor> parts;
+    for (const nn::FlatModule* m : modules) parts.push_back(m->flat());
+    return torch::cat(parts);
+  };
+  auto set_flat_values = [&](const torch::Tensor& values) {
+    int64_t offset = 0;
+    for (const nn::FlatModule* m : modules) {
+      m->flat().copy_(values.narrow(0, offset, m->num_params()));
+      offset += m->num_params();
+    }
+  };
   const double regularizer =
       trpo_.entropy_method == "regularized" ? trpo_.entropy_coeff : 0.0;
-  const nn::ActionDistribution old = policy_->Forward(s.x, s.head).Detached();
+  const nn::ActionDistribution old = PolicyOn(s).Detached();
 
-  auto surrogate = [&](const nn::ActionDistribution& d) {
+  auto per_sample_surrogate = [&](const nn::ActionDistribution& d) {
     const torch::Tensor ratio = (d.LogProb(s.actions) - s.log_probs).exp();
-    torch::Tensor value = (ratio * s.advantages).mean();
-    if (regularizer > 0) value = value + regularizer * d.Entropy().mean();
+    torch::Tensor value = ratio * s.advantages;
+    if (regularizer > 0) value = value + regularizer * d.Entropy();
     return value;
   };
+  auto surrogate = [&](const nn::ActionDistribution& d) {
+    return per_sample_surrogate(d).mean();
+  };
 
-  const torch::Tensor surr = surrogate(policy_->Forward(s.x, s.head));
-  const torch::Tensor g = Flatten(torch::autograd::grad({surr}, params));
+  Metrics m;
+  const torch::Tensor per_sample = per_sample_surrogate(PolicyOn(s));
+  const torch::Tensor surr = per_sample.mean();
+  torch::Tensor g;
+  if (trpo_.pcgrad) {
+    // PCGrad on the per-task losses -surrogate; g is the ascent direction.
+    for (nn::FlatModule* module : modules) module->ZeroGrad();
+    m.Set("pcgrad_conflicts",
+          nn::PcGradBackward(-per_sample, s.tasks, spaces_.num_tasks, modules, generator_)
+              .conflict_fraction());
+    std::vector<torch::Tensor> grads;
+    for (const nn::FlatModule* module : modules) grads.push_back(module->flat_grad());
+    g = -torch::cat(grads);
+  } else {
+    g = Flatten(torch::autograd::grad({surr}, params, {}, /*retain_graph=*/c10::nullopt,
+                                      /*create_graph=*/false, /*allow_unused=*/true),
+                params);
+  }
   const double surr_before = surr.item<double>();
 
   // Fisher-vector product: d/dtheta (grad KL . v) at the current parameters.
   auto fisher = [&](const torch::Tensor& v) {
-    const torch::Tensor kl = old.KlTo(policy_->Forward(s.x, s.head)).mean();
-    const std::vector<torch::Tensor> kl_grad =
-        torch::autograd::grad({kl}, params, {}, /*retain_graph=*/true, /*create_graph=*/true);
-    const torch::Tensor gv = (Flatten(kl_grad) * v).sum();
-    const torch::Tensor hv = Flatten(torch::autograd::grad({gv}, params));
+    const torch::Tensor kl = old.KlTo(PolicyOn(s)).mean();
+    const std::vector<torch::Tensor> kl_grad = torch::autograd::grad(
+        {kl}, params, {}, /*retain_graph=*/true, /*create_graph=*/true, /*allow_unused=*/true);
+    const torch::Tensor gv = (Flatten(kl_grad, params) * v).sum();
+    const torch::Tensor hv = Flatten(torch::autograd::grad({gv}, params, {}, c10::nullopt,
+                                                           false, /*allow_unused=*/true),
+                                     params);
     return hv + trpo_.cg_damping * v;
   };
   const torch::Tensor direction = ConjugateGradient(fisher, g.detach(), trpo_.cg_iters);
   const double shs = direction.dot(fisher(direction)).item<double>();
-  Metrics m;
   m.Set("surrogate", surr_before);
   double accepted_kl = 0.0;
   int64_t backtracks = trpo_.max_backtracks;
   bool accepted = false;
   if (shs > 0 && std::isfinite(shs)) {
     const torch::Tensor full_step = direction * std::sqrt(2.0 * trpo_.max_kl / shs);
-    const torch::Tensor before = policy_->flat().clone();
+    const torch::Tensor before = flat_values();
     torch::NoGradGuard no_grad;
     double fraction = 1.0;
     for (int64_t k = 0; k < trpo_.max_backtracks; ++k, fraction *= trpo_.backtrack_ratio) {
-      policy_->flat().copy_(before + fraction * full_step);
-      const nn::ActionDistribution d = policy_->Forward(s.x, s.head, policy_->detached_params());
+      set_flat_values(before + fraction * full_step);
+      const nn::ActionDistribution d = PolicyOn(s);
       const double kl = old.KlTo(d).mean().item<double>();
       const double value = surrogate(d).item<double>();
       if (std::isfinite(kl) && kl <= trpo_.max_kl && value > surr_before) {
@@ -117,14 +162,14 @@ Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
         break;
       }
     }
-    if (!accepted) policy_->flat().copy_(before);
+    if (!accepted) set_flat_values(before);
   }
   m.Set("step_accepted", accepted ? 1.0 : 0.0);
   m.Set("backtracks", static_cast<double>(backtracks));
   m.Set("kl", accepted_kl);
   {
     torch::NoGradGuard no_grad;
-    m.Set("entropy", policy_->Forward(s.x, s.head).Entropy().mean().item<double>());
+    m.Set("entropy", PolicyOn(s).Entropy().mean().item<double>());
   }
   if (uses_value_network()) {
     m.Set("value_loss", FitValue(s, trpo_.vf_epochs, trpo_.vf_minibatch_size));
