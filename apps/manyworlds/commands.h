@@ -26,6 +26,7 @@ void AddBenchCommand(CLI::App& app, CommandContext& context);
 void AddDemoCommand(CLI::App& app, CommandContext& context);
 void AddExportXmlCommand(CLI::App& app, CommandContext& context);
 void AddRenderCommand(CLI::App& app, CommandContext& context);
+void AddBaselinesCommand(CLI::App& app, CommandContext& context);
 
 // Commands that need libtorch live in torch_*.cc files, built only when the
 // agents layer is (MANYWORLDS_HAS_AGENTS).

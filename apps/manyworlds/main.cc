@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   cli::AddDemoCommand(app, context);
   cli::AddExportXmlCommand(app, context);
   cli::AddRenderCommand(app, context);
+  cli::AddBaselinesCommand(app, context);
 #ifdef MANYWORLDS_HAS_AGENTS
   cli::AddTrainCommand(app, context);
   cli::AddEvalCommand(app, context);

@@ -46,6 +46,29 @@ std::string Success(const std::optional<double>& rate) {
   return rate ? Fixed(*rate, 2) : "-";
 }
 
+std::string OptionalFixed(const nlohmann::json& v, int digits) {
+  return v.is_number() ? Fixed(v.get<double>(), digits) : std::string("-");
+}
+
+// The meta-test result (MetaTestResult::ToJson) as a table.
+void PrintMetaTestTable(const nlohmann::json& m, std::ostream& out) {
+  Table table({"test task", ">success", ">return", ">success before", ">return before",
+               ">trial return"});
+  for (const auto& [name, t] : m["per_task"].items()) {
+    table.AddRow({name, OptionalFixed(t["success"], 2), OptionalFixed(t["return"], 2),
+                  OptionalFixed(t["pre_adaptation_success"], 2),
+                  OptionalFixed(t["pre_adaptation_return"], 2),
+                  OptionalFixed(t["trial_return"], 2)});
+  }
+  table.AddRow({"mean", OptionalFixed(m["success_rate"], 2), OptionalFixed(m["return"], 2),
+                OptionalFixed(m["pre_adaptation_success_rate"], 2),
+                OptionalFixed(m["pre_adaptation_return"], 2), OptionalFixed(m["trial_return"], 2)});
+  out << "meta-test: " << m["trials_per_task"].get<int64_t>() << " trials per task of "
+      << m["exploration_episodes"].get<int64_t>() << " exploration + "
+      << m["evaluation_episodes"].get<int64_t>() << " evaluation episodes\n";
+  table.Print(out);
+}
+
 void PrintEvalTable(const EvalResult& eval, std::ostream& out) {
   Table table({"task", ">success", ">return", ">length"});
   for (const auto& t : eval.per_task) {
@@ -182,6 +205,7 @@ void RunTrain(const TrainArgs& args, const CommandContext& context) {
   status_line.reset();  // clears the status line
 
   if (summary.final_eval) PrintEvalTable(*summary.final_eval, std::cout);
+  if (summary.final_meta_test) PrintMetaTestTable(*summary.final_meta_test, std::cout);
   if (!summary.finished) {
     std::cerr << "train: stopped at step " << summary.step << " after its checkpoint; continue "
               << "with `manyworlds train --resume " << run_dir << "`\n";
@@ -197,8 +221,11 @@ struct EvalArgs {
   std::string run_dir;
   std::string checkpoint = "latest";
   int64_t episodes = 0;
+  std::string protocol = "multi-task";
   bool json = false;
 };
+
+
 
 fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
   if (which == "latest") return experiments::LatestCheckpoint(run_dir);
@@ -222,6 +249,24 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
 void RunEval(const EvalArgs& args, const CommandContext& context) {
   const experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
   const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
+  if (args.protocol == "meta-test") {
+    if (args.episodes > 0) {
+      throw ConfigError("eval: --episodes is for the multi-task protocol; the meta-test's "
+                        "episodes are the run's meta_test section");
+    }
+    if (context.progress || isatty(STDERR_FILENO)) {
+      std::cerr << "eval: " << checkpoint.string() << ", meta-test on held-out tasks\n";
+    }
+    nlohmann::json result = experiments::MetaTestCheckpoint(run, checkpoint);
+    if (args.json) {
+      PrintJson({{"checkpoint", checkpoint.string()}, {"meta_test", result}});
+      return;
+    }
+    std::cout << "checkpoint " << checkpoint.filename().string() << " (step "
+              << result["step"].get<int64_t>() << ")\n";
+    PrintMetaTestTable(result, std::cout);
+    return;
+  }
   const int64_t episodes =
       args.episodes > 0 ? args.episodes : run.config.experiment.eval_episodes;
   if (context.progress || isatty(STDERR_FILENO)) {
@@ -298,7 +343,7 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
 void AddTrainCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "train", "Train any registered algorithm (agent.algo: sac, ppo, trpo, te_ppo); writes "
+      "train", "Train any registered algorithm (agent.algo: sac, ppo, trpo, te_ppo, rl2); writes "
                "config.yaml, metrics, evaluations, checkpoints and summary.json into the run "
                "directory");
   cmd->add_option("args", args->positional,
@@ -316,15 +361,24 @@ void AddTrainCommand(CLI::App& app, CommandContext& context) {
 void AddEvalCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "eval", "Evaluate a saved run: deterministic actions, per-task success rate and return");
+      "eval", "Evaluate a saved run: per-task success rate and return, by the multi-task "
+              "protocol or (--protocol meta-test) the meta-test protocol");
   cmd->add_option("run_dir", args->run_dir, "the run directory")->required();
   cmd->add_option("--episodes", args->episodes,
                   "episodes per task (default: the run's experiment.eval_episodes)")
       ->check(AtLeastOne());
   cmd->add_option("--checkpoint", args->checkpoint,
                   "'latest', a checkpoint name (step_...) or a checkpoint directory");
+  cmd->add_option("--protocol", args->protocol,
+                  "multi-task: the training tasks, deterministic episodes; meta-test: the "
+                  "run's held-out tasks (eval_env), exploration episodes, adaptation, "
+                  "evaluation episodes (meta_test section)")
+      ->check(CLI::IsMember({"multi-task", "meta-test"}))
+      ->capture_default_str();
   cmd->add_flag("--json", args->json,
-                "print JSON ({per_task, mean_success, mean_return, ...}) instead of a table");
+                "print JSON ({per_task, mean_success, mean_return, ...}; with meta-test "
+                "{meta_test: {success_rate, per_task, pre_adaptation_success_rate, ...}}) "
+                "instead of a table");
   cmd->callback([args, &context] { RunEval(*args, context); });
 }
 

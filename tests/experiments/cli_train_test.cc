@@ -278,5 +278,45 @@ TEST(CliTrainTest, PpoTrainsEvaluatesAndResumesFromTheCommandLine) {
   EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
 }
 
+TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
+  const fs::path dir = ScratchDir();
+  const std::string config = std::string(MANYWORLDS_TEST_SOURCE_DIR) + "/configs/bandit_rl2.yaml";
+  RunResult r = RunCli("train '" + config + "' experiment.steps_per_task=200 " +
+                           "experiment.run_dir=runs/rl2 meta_test.trials_per_task=20",
+                       dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("meta-test: 20 trials per task"), std::string::npos) << r.out;
+  r = RunCli("eval runs/rl2 --protocol meta-test --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto json = nlohmann::json::parse(r.out)["meta_test"];
+  for (const char* key : {"success_rate", "per_task", "pre_adaptation_success_rate",
+                          "trial_return"}) {
+    EXPECT_TRUE(json.contains(key)) << key;
+  }
+  // the same trials as the run's own final meta-test
+  const auto summary = nlohmann::json::parse(Slurp(dir / "runs" / "rl2" / "summary.json"));
+  EXPECT_DOUBLE_EQ(json["trial_return"].get<double>(),
+                   summary["final_meta_test"]["trial_return"].get<double>());
+  r = RunCli("baselines bandit runs/rl2 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto baselines = nlohmann::json::parse(r.out);
+  EXPECT_EQ(baselines["tasks"], 200);  // the held-out bandits
+  EXPECT_EQ(baselines["baselines"].size(), 4u);
+  // a run without held-out tasks, and a multi-task-only flag
+  ASSERT_EQ(RunCli("train '" + config + "' experiment.steps_per_task=20 eval_env=null " +
+                       "experiment.run_dir=runs/plain",
+                   dir)
+                .exit_code,
+            0);
+  for (const std::string& bad : {std::string("eval runs/plain --protocol meta-test"),
+                                 std::string("eval runs/rl2 --protocol meta-test --episodes 2"),
+                                 std::string("eval runs/rl2 --protocol meta"),
+                                 std::string("baselines bandit runs/nothing")}) {
+    r = RunCli(bad, dir);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << bad << ": " << r.err;
+  }
+}
+
 }  // namespace
 }  // namespace manyworlds

@@ -179,6 +179,12 @@ TEST(OnPolicyResumeTest, TePpoResumesExactly) {
                     {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "teppo");
 }
 
+TEST(OnPolicyResumeTest, Rl2ResumesExactly) {
+  // trials of 10 one-pull episodes: the checkpoint falls between trials
+  ExpectExactResume("bandit_rl2.yaml",
+                    {"experiment.steps_per_task=2500", "experiment.eval_every=500"}, "rl2");
+}
+
 TEST(OnPolicyResumeTest, TrpoResumesExactly) {
   ExpectExactResume("point_nav_trpo.yaml",
                     {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "trpo");
@@ -212,14 +218,14 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
   EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
   // the registry lists every algorithm with its family
-  ASSERT_EQ(Algorithms().size(), 4u);
+  ASSERT_EQ(Algorithms().size(), 5u);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
   // every name has its own config and a builder (a short run per algorithm)
   for (const AlgorithmInfo& info : Algorithms()) {
     EXPECT_EQ(DefaultAgentConfig(info.name).algo(), info.name);
     TrainConfig c = TrainConfig::Load(
         std::nullopt, {"agent.algo=" + info.name, "env.id=point-nav", "env.num_tasks=2",
-                       "experiment.steps_per_task=200", "experiment.eval_every=0",
+                       "experiment.steps_per_task=1000", "experiment.eval_every=0",
                        "experiment.eval_episodes=1"});
     if (info.family == AlgorithmFamily::kOffPolicy) {
       c = TrainConfig::Load(std::nullopt,

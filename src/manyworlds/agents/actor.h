@@ -14,6 +14,7 @@
 #define MANYWORLDS_AGENTS_ACTOR_H_
 
 #include <cstdint>
+#include <optional>
 
 #include <torch/torch.h>
 
@@ -29,8 +30,27 @@ enum class ResetScope { kEpisode, kTrial, kTask };
 
 // Per-env state of a stateful actor; feed-forward actors leave it empty.
 struct ActorState {
-  torch::Tensor hidden;  // recurrent state (layers, N, H)
-  torch::Tensor latent;  // a task latent per env (N, Z)
+  torch::Tensor hidden;   // recurrent state (N, H)
+  torch::Tensor latent;   // a task latent per env (N, Z)
+  torch::Tensor context;  // what the actor keeps of past steps (RL2: previous action, reward, done)
+  // When set, sampling draws from this generator instead of the learner's:
+  // an evaluation protocol seeds its own, so its sampled episodes depend only
+  // on its seed and never move the training's random stream.
+  std::optional<at::Generator> generator;
+};
+
+// The generator an actor samples from for this state.
+inline at::Generator& SamplingGenerator(ActorState& state, at::Generator& own) {
+  return state.generator ? *state.generator : own;
+}
+
+// What the envs did with the actions of the last Act, for actors that build
+// their context from it (WantsOutcomes): RL2's previous action, reward and
+// episode flag; PEARL's transitions.
+struct StepOutcome {
+  torch::Tensor action;  // (N, action_dim) as Act returned them
+  torch::Tensor reward;  // (N) float
+  torch::Tensor ended;   // (N) float 0/1: the episode ended (terminated or truncated)
 };
 
 struct ActOutput {
@@ -50,6 +70,14 @@ class Actor {
                         ActorState& state, ActMode mode) = 0;
   // envs: (N) bool, true where the boundary applies.
   virtual void Reset(const torch::Tensor& /*envs*/, ResetScope /*scope*/, ActorState& /*state*/) {}
+  // True if the caller must pass every step's outcome to Observe.
+  virtual bool WantsOutcomes() const { return false; }
+  virtual void Observe(const StepOutcome& /*outcome*/, ActorState& /*state*/) {}
+  // The end of the exploration phase of a meta-test for the envs in the mask:
+  // the actor adapts to what it observed (MAML: inner gradient steps; PEARL:
+  // the posterior over its latent). RL2's adaptation is its hidden state, so
+  // it does nothing here.
+  virtual void Adapt(const torch::Tensor& /*envs*/, ActorState& /*state*/) {}
 };
 
 }  // namespace manyworlds::agents

@@ -39,6 +39,10 @@ class OnPolicyLearner : public Learner {
   virtual Metrics Update(rl::RolloutBuffer& rollout) = 0;
   // Updates done so far (restored by Load).
   virtual int64_t num_updates() const = 0;
+  // True for meta-learners trained on trials (RL2): an iteration's rounds
+  // are one trial per env, every round of it on the same task variation,
+  // and the actor is told where trials begin (ResetScope::kTrial).
+  virtual bool trials() const { return false; }
 };
 
 }  // namespace manyworlds::agents

@@ -119,6 +119,9 @@ const std::vector<AlgorithmInfo>& Algorithms() {
        "trust region policy optimisation (MT-TRPO with several tasks)"},
       {"te_ppo", AlgorithmFamily::kOnPolicy, true, true,
        "PPO with learned task embeddings (encoder, inference network; garage's TEPPO)"},
+      {"rl2", AlgorithmFamily::kOnPolicy, true, true,
+       "RL2 meta-RL: a GRU policy trained with PPO over trials of several episodes of one task "
+       "(garage's RL2PPO)"},
   };
   return list;
 }

@@ -8,6 +8,7 @@
 //   ppo    on-policy   agents/ppo/ppo_config.h      agents/ppo/ppo.h (PPO, MT-PPO)
 //   trpo   on-policy   agents/trpo/trpo_config.h    agents/trpo/trpo.h (TRPO, MT-TRPO)
 //   te_ppo on-policy   agents/te_ppo/te_ppo_config.h agents/te_ppo/te_ppo.h (TE-PPO)
+//   rl2    on-policy   agents/rl2/rl2_config.h      agents/rl2/rl2.h (RL2-PPO, trials)
 //
 // This header is torch-free: configs can be read, printed and validated
 // without the networks. MakeAlgorithm (algorithm.h) builds the learner.

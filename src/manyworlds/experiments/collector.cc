@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 
 namespace manyworlds::experiments {
@@ -10,6 +11,7 @@ namespace {
 // The round stream of experiment.seed (unchanged since the first trainer, so
 // runs keep their numbers).
 constexpr uint64_t kRoundStream = 0x726f756e64;  // "round"
+constexpr uint64_t kTrialStream = 0x747269616c;  // "trial"
 
 }  // namespace
 
@@ -47,15 +49,23 @@ Collector::Collector(const TaskSet& tasks, const Registry& registry, const EnvFa
   env_actions_.assign(num_envs_ * facts.action_dim, 0.0f);
 }
 
-void Collector::BeginRound(uint64_t seed, int64_t round) {
+void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial) {
+  if (rounds_per_trial < 1) throw Error("Collector: rounds_per_trial must be >= 1");
   const uint64_t base = MixSeed(MixSeed(seed, kRoundStream), round);
+  const uint64_t trial =
+      MixSeed(MixSeed(seed, kTrialStream), static_cast<uint64_t>(round / rounds_per_trial));
   for (int64_t i = 0; i < num_envs_; ++i) {
     Rng r(MixSeed(base, i));
     Env& env = exec_->env(static_cast<int>(i));
     env.Seed(r.NextU64());
     env.SeedTask(r.NextU64());
     const auto& variations = tasks_.tasks[env_tasks_[i]].variations;
-    const uint64_t v = variations.size() > 1 ? r.UniformInt(variations.size()) : 0;
+    uint64_t v = 0;
+    if (variations.size() > 1) {
+      Rng trial_rng(MixSeed(trial, i));
+      v = rounds_per_trial == 1 ? r.UniformInt(variations.size())
+                                : trial_rng.UniformInt(variations.size());
+    }
     exec_->SetTaskState(static_cast<int>(i), variations[v]);
     tracker_.Restart(i);
   }

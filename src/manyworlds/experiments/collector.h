@@ -59,7 +59,10 @@ class Collector {
   const std::vector<int64_t>& env_tasks() const { return env_tasks_; }
   BatchedExecutor& executor() { return *exec_; }
 
-  void BeginRound(uint64_t seed, int64_t round);
+  // With rounds_per_trial > 1, rounds r and r' with the same
+  // r / rounds_per_trial keep each env on the same variation (a trial of
+  // meta-RL); the env seeds still change every round.
+  void BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial = 1);
   // Current observations (num_envs x obs_dim); valid until the next Step.
   std::span<const float> observations() const { return exec_->env_obs(); }
   // Steps every env with one row of policy actions each (num_envs x

@@ -62,7 +62,8 @@ Evaluator::~Evaluator() = default;
 EvalResult Evaluator::Run(const PolicyFn& policy) { return RunEpisodes(policy, [] {}); }
 
 EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
-                                  const std::function<void()>& new_episodes) {
+                                  const std::function<void()>& new_episodes,
+                                  const ObserveFn& observe) {
   const auto start = std::chrono::steady_clock::now();
   const int64_t num_tasks = tasks_.size();
   const int64_t n = num_tasks * slots_;
@@ -76,6 +77,7 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
   std::vector<std::vector<EpisodeResult>> episodes(num_tasks,
                                                    std::vector<EpisodeResult>(episodes_));
   std::vector<double> ep_return(n), ep_length(n);
+  std::vector<float> step_rewards(n), step_ended(n);
   std::vector<char> ep_success(n), active(n);
   for (int64_t first = 0; first < episodes_; first += slots_) {
     if (first > 0) new_episodes();
@@ -104,6 +106,13 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
       const auto terminated = exec_->terminated();
       const auto truncated = exec_->truncated();
       const auto info = exec_->info();
+      if (observe) {
+        for (int64_t i = 0; i < n; ++i) {
+          step_rewards[i] = rewards[i];
+          step_ended[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
+        }
+        observe(unit, step_rewards.data(), step_ended.data());
+      }
       for (int64_t i = 0; i < n; ++i) {
         if (!active[i]) continue;
         ep_return[i] += rewards[i];
@@ -151,11 +160,22 @@ EvalResult Evaluator::Run(agents::Actor& actor) {
   const int64_t n = tasks_.size() * slots_;
   agents::ActorState state = actor.Initial(n);
   const torch::Tensor all_envs = torch::ones({n}, torch::kBool);
+  ObserveFn observe;
+  if (actor.WantsOutcomes()) {
+    observe = [&](const torch::Tensor& actions, const float* rewards, const float* ended) {
+      agents::StepOutcome outcome;
+      outcome.action = actions;
+      outcome.reward = torch::from_blob(const_cast<float*>(rewards), {n}, torch::kFloat32);
+      outcome.ended = torch::from_blob(const_cast<float*>(ended), {n}, torch::kFloat32);
+      actor.Observe(outcome, state);
+    };
+  }
+  // every batch of episodes runs on new variations: a new task for the actor
   return RunEpisodes(
       [&](const torch::Tensor& obs, const torch::Tensor& task) {
         return actor.Act(obs, task, state, agents::ActMode::kDeterministic).action;
       },
-      [&] { actor.Reset(all_envs, agents::ResetScope::kEpisode, state); });
+      [&] { actor.Reset(all_envs, agents::ResetScope::kTask, state); }, observe);
 }
 
 }  // namespace manyworlds::experiments

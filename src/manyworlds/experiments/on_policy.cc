@@ -6,6 +6,9 @@
 // learner update on the whole buffer. The actor is told where episodes
 // begin again (every env at a round's start, an env after its episode
 // ends), so per-episode state such as TE-PPO's latent follows the episodes.
+// Meta-learners trained on trials (RL2: learner->trials()) get one trial per
+// env per iteration: the rounds keep each env's task variation, and the
+// actor sees every step's outcome (Observe) to build its context.
 // Checkpoint files: learner.pt (learner and torch generators).
 #include <chrono>
 #include <map>
@@ -14,6 +17,7 @@
 #include <vector>
 
 #include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
@@ -63,8 +67,16 @@ class OnPolicyAlgorithm : public Algorithm {
     const torch::Tensor all_envs = torch::ones({num_envs_}, torch::kBool);
     torch::Tensor ended_envs = torch::zeros({num_envs_}, torch::kBool);
     bool* ended_flags = ended_envs.data_ptr<bool>();
+    const bool trials = learner_->trials();
+    const bool observe = actor.WantsOutcomes();
+    agents::StepOutcome outcome;
+    if (observe) {
+      outcome.reward = torch::zeros({num_envs_});
+      outcome.ended = torch::zeros({num_envs_});
+    }
     for (int64_t k = 0; k < rounds_; ++k) {
-      collector.BeginRound(seed_, first_round + k);
+      // trial mode: the iteration's rounds are one trial on one variation per env
+      collector.BeginRound(seed_, first_round + k, trials ? rounds_ : 1);
       if (k > 0) actor.Reset(all_envs, agents::ResetScope::kEpisode, state);
       for (int64_t s = 0; s < round_length_; ++s) {
         const int64_t t = k * round_length_ + s;
@@ -118,6 +130,12 @@ class OnPolicyAlgorithm : public Algorithm {
           } else {
             std::fill(fin + i * d, fin + (i + 1) * d, 0.0f);
           }
+        }
+        if (observe) {
+          outcome.action = buffer_.actions[t];
+          outcome.reward.copy_(buffer_.rewards[t]);
+          outcome.ended.copy_(buffer_.ended[t]);
+          actor.Observe(outcome, state);
         }
         if (any_ended && !last) actor.Reset(ended_envs, agents::ResetScope::kEpisode, state);
         t_act += Seconds(t1 - t0);
@@ -193,11 +211,18 @@ std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup);
 
 namespace {
 
+// Rounds per iteration: rollout_rounds, or one trial for RL2.
+template <class Config>
+int64_t RoundsPerIteration(const Config& c) {
+  return c.rollout_rounds;
+}
+int64_t RoundsPerIteration(const agents::Rl2Config& c) { return c.episodes_per_trial; }
+
 template <class Learner, class Config>
 std::unique_ptr<Algorithm> MakeOnPolicy(const AlgorithmSetup& setup) {
   const auto c = Seeded<Config>(setup);
   return std::make_unique<OnPolicyAlgorithm>(setup, std::make_unique<Learner>(c, Spaces(setup)),
-                                             c.rollout_rounds);
+                                             RoundsPerIteration(c));
 }
 
 using AlgorithmBuilder = std::unique_ptr<Algorithm> (*)(const AlgorithmSetup&);
@@ -209,6 +234,7 @@ const std::map<std::string, AlgorithmBuilder>& Builders() {
       {"ppo", &MakeOnPolicy<agents::PpoLearner, agents::PpoConfig>},
       {"trpo", &MakeOnPolicy<agents::TrpoLearner, agents::TrpoConfig>},
       {"te_ppo", &MakeOnPolicy<agents::TePpoLearner, agents::TePpoConfig>},
+      {"rl2", &MakeOnPolicy<agents::Rl2Learner, agents::Rl2Config>},
   };
   return builders;
 }

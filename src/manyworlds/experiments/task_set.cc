@@ -141,8 +141,11 @@ TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry) {
     return set;
   }
   for (int64_t i = 0; i < env.num_tasks; ++i) {
+    // one draw per task when variations_per_task <= 1: existing task sets keep their states
+    std::vector<TaskState> states = {proto->SampleTaskState()};
+    for (int64_t v = 1; v < env.variations_per_task; ++v) states.push_back(proto->SampleTaskState());
     set.tasks.push_back({env.num_tasks == 1 ? env.id : env.id + "/" + std::to_string(i), env.id,
-                         {proto->SampleTaskState()}});
+                         std::move(states)});
   }
   return set;
 }

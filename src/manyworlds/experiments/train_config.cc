@@ -62,6 +62,38 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
     if (c.env.options.is_null()) c.env.options = nlohmann::json::object();
   }
   {
+    ConfigReader r = root.Section("eval_env");
+    const bool given = json.is_object() && json.contains("eval_env") && !json["eval_env"].is_null();
+    if (given) {
+      // the env section with the keys given here replaced
+      EnvSectionConfig e = c.env;
+      const nlohmann::json& section = json["eval_env"];
+      if (section.is_object() && (section.contains("id") || section.contains("tasks"))) {
+        e.id.clear();
+        e.tasks.clear();
+      }
+      r.Read("id", e.id);
+      r.Read("tasks", e.tasks);
+      r.Read("num_tasks", e.num_tasks);
+      r.Read("variations_per_task", e.variations_per_task);
+      r.Read("task_states", e.task_states);
+      r.Read("options", e.options);
+      r.Read("task_seed", e.task_seed);
+      if (e.task_states.is_null()) e.task_states = nlohmann::json::array();
+      if (e.options.is_null()) e.options = nlohmann::json::object();
+      c.eval_env = std::move(e);
+    }
+    r.Finish();
+  }
+  {
+    ConfigReader r = root.Section("meta_test");
+    r.Read("exploration_episodes", c.meta_test.exploration_episodes);
+    r.Read("evaluation_episodes", c.meta_test.evaluation_episodes);
+    r.Read("trials_per_task", c.meta_test.trials_per_task);
+    r.Read("sample_evaluation", c.meta_test.sample_evaluation);
+    r.Finish();
+  }
+  {
     ConfigReader r = root.Section("agent");
     if (json.is_object() && json.contains("agent")) {
       c.agent = ReadAgentConfig(json["agent"]);
@@ -135,6 +167,19 @@ nlohmann::json TrainConfig::ToJson() const {
         {"options", env.options},
         {"envs_per_task", env.envs_per_task},
         {"task_seed", env.task_seed}}},
+      {"eval_env", eval_env ? nlohmann::json{{"id", eval_env->id},
+                                             {"tasks", eval_env->tasks},
+                                             {"num_tasks", eval_env->num_tasks},
+                                             {"variations_per_task", eval_env->variations_per_task},
+                                             {"task_states", eval_env->task_states},
+                                             {"options", eval_env->options},
+                                             {"task_seed", eval_env->task_seed}}
+                            : nlohmann::json(nullptr)},
+      {"meta_test",
+       {{"exploration_episodes", meta_test.exploration_episodes},
+        {"evaluation_episodes", meta_test.evaluation_episodes},
+        {"trials_per_task", meta_test.trials_per_task},
+        {"sample_evaluation", meta_test.sample_evaluation}}},
       {"agent", AgentConfigToJson(agent)},
       {"replay", {{"capacity", replay.capacity}, {"sampling", replay.sampling}}},
       {"experiment",
@@ -186,6 +231,17 @@ void TrainConfig::Validate() const {
   if (env.envs_per_task < 1) {
     Bad("env.envs_per_task", "must be >= 1, got " + std::to_string(env.envs_per_task));
   }
+  if (eval_env) {
+    if (eval_env->id.empty() == eval_env->tasks.empty()) {
+      Bad("eval_env", "needs an env id or a task list (not both)");
+    }
+    if (eval_env->num_tasks < 0 || eval_env->variations_per_task < 0) {
+      Bad("eval_env", "num_tasks and variations_per_task must be >= 0");
+    }
+    if (!eval_env->options.is_object()) Bad("eval_env.options", "must be a mapping");
+    if (!eval_env->task_states.is_array()) Bad("eval_env.task_states", "must be a list");
+  }
+  meta_test.Validate();
   // agent
   ValidateAgentConfig(agent);
   // replay

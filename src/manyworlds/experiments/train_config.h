@@ -10,16 +10,29 @@
 //                          # variations), else one sampled task; n >= 1 = n
 //                          # tasks sampled with task_seed
 //     variations_per_task: 0  # benchmark variations used per task (0 = all;
-//                          # 1 = MTRL's one fixed goal per task)
+//                          # 1 = MTRL's one fixed goal per task); for an env
+//                          # without a task list, n >= 1 task states sampled
+//                          # per task (a meta-RL task distribution; 0 = 1)
 //     task_states: []      # optional explicit task states ({env, params} each),
 //                          # one per task, instead of sampling them
 //     options: {}          # registry options for every env (e.g. horizon,
 //                          # max_episode_steps)
 //     envs_per_task: 1     # training envs stepped per task
 //     task_seed: 0         # draws the task set; independent of experiment.seed
+//   eval_env: null         # held-out meta-test tasks: keys of env (id, tasks,
+//                          # num_tasks, variations_per_task, task_states,
+//                          # options, task_seed) replacing the env section's,
+//                          # e.g. {options: {split: test}} for ML1/ML10's test
+//                          # split; when set, every evaluation also runs the
+//                          # meta-test protocol on them (meta_test.jsonl)
+//   meta_test:             # the meta-test protocol (experiments/meta_test_protocol.h)
+//     exploration_episodes: 10  # per trial, sampled, before Actor::Adapt
+//     evaluation_episodes: 3    # per trial, after adaptation
+//     trials_per_task: 10       # variations tried per held-out task
+//     sample_evaluation: false  # evaluation episodes sample instead of the mode
 //   agent:
 //     algo: sac            # the algorithm (experiments/algorithms.h lists them:
-//                          # sac, ppo, trpo, te_ppo); the other keys are that
+//                          # sac, ppo, trpo, te_ppo, rl2); the other keys are that
 //                          # algorithm's config (agents/sac_config.h,
 //                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h,
 //                          # agents/te_ppo/te_ppo_config.h),
@@ -67,6 +80,7 @@
 #include <variant>
 
 #include "manyworlds/agents/ppo/ppo_config.h"
+#include "manyworlds/agents/rl2/rl2_config.h"
 #include "manyworlds/agents/sac_config.h"
 #include "manyworlds/agents/te_ppo/te_ppo_config.h"
 #include "manyworlds/agents/trpo/trpo_config.h"
@@ -97,10 +111,11 @@ struct ExperimentSectionConfig {
 // The agent section: one algorithm's typed config. The variant's
 // alternatives are the algorithm registry's configs (algorithms.h).
 struct AgentConfig {
-  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig>
+  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig,
+               agents::Rl2Config>
       params;
 
-  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo").
+  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2").
   std::string algo() const;
   // The typed config; ConfigError if the agent is another algorithm.
   template <class C>
@@ -116,8 +131,22 @@ struct AgentConfig {
   const agents::SacConfig& sac() const { return as<agents::SacConfig>(); }
 };
 
+// The meta-test protocol's settings. Defaults: Meta-World v3's
+// metalearning_evaluation (10 adaptation episodes, 3 evaluation episodes);
+// garage's MetaEvaluator uses 10 and 1.
+struct MetaTestConfig {
+  int64_t exploration_episodes = 10;
+  int64_t evaluation_episodes = 3;
+  int64_t trials_per_task = 10;
+  bool sample_evaluation = false;
+  // Throws ConfigError naming the field (prefix "meta_test.").
+  void Validate() const;
+};
+
 struct TrainConfig {
   EnvSectionConfig env;
+  std::optional<EnvSectionConfig> eval_env;  // held-out tasks of the meta-test
+  MetaTestConfig meta_test;
   AgentConfig agent;
   ReplaySectionConfig replay;
   ExperimentSectionConfig experiment;

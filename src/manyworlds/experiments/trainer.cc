@@ -22,6 +22,7 @@
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/algorithms.h"
+#include "manyworlds/experiments/meta_test_protocol.h"
 #include "manyworlds/experiments/collector.h"
 #include "manyworlds/experiments/run_log.h"
 
@@ -99,7 +100,8 @@ nlohmann::json TrainSummary::ToJson() const {
           {"wall_s", wall_s},
           {"env_steps_per_s", env_steps_per_s},
           {"updates_per_s", updates_per_s},
-          {"final_eval", OptionalEval(final_eval)}};
+          {"final_eval", OptionalEval(final_eval)},
+          {"final_meta_test", final_meta_test ? *final_meta_test : nlohmann::json(nullptr)}};
 }
 
 fs::path LatestCheckpoint(const fs::path& run_dir) {
@@ -141,7 +143,57 @@ RunInfo RunInfo::Read(const fs::path& run_dir) {
   } catch (const Error& e) {
     throw Error(paths.tasks().string() + ": " + e.what());
   }
+  if (info.config.eval_env) {
+    const auto eval_tasks = nlohmann::json::parse(ReadText(paths.eval_tasks()), nullptr, false);
+    if (eval_tasks.is_discarded()) throw Error(paths.eval_tasks().string() + ": not valid JSON");
+    try {
+      info.eval_tasks = TaskSet::FromJson(eval_tasks);
+    } catch (const Error& e) {
+      throw Error(paths.eval_tasks().string() + ": " + e.what());
+    }
+  }
   return info;
+}
+
+namespace {
+
+// Held-out tasks must present the spaces the policy was trained on.
+void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry) {
+  const EnvFacts eval = InspectEnvs(eval_tasks, registry);
+  if (eval.obs_dim != train.obs_dim || eval.action_dim != train.action_dim ||
+      eval.num_actions != train.num_actions) {
+    throw ConfigError("eval_env: its tasks' observation or action spaces differ from env's (obs " +
+                      std::to_string(eval.obs_dim) + " vs " + std::to_string(train.obs_dim) +
+                      ", action " + std::to_string(eval.action_dim) + " vs " +
+                      std::to_string(train.action_dim) + ")");
+  }
+}
+
+}  // namespace
+
+nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
+                                  std::optional<uint64_t> seed) {
+  if (!run.eval_tasks) {
+    throw ConfigError("meta-test needs held-out tasks, and this run has none: train with an "
+                      "eval_env section (e.g. eval_env: {options: {split: test}} for ML1/ML10, "
+                      "or eval_env: {task_seed: 1} for a sampled task distribution)");
+  }
+  const Registry& registry = DefaultRegistry();
+  const EnvFacts facts = InspectEnvs(run.tasks, registry);
+  CheckEvalTasks(*run.eval_tasks, facts, registry);
+  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
+  algorithm->LoadPolicy(checkpoint);
+  MetaTestProtocol protocol(*run.eval_tasks, registry, run.config.meta_test,
+                            seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
+                            run.config.experiment.num_threads);
+  MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
+  try {
+    const auto state = nlohmann::json::parse(ReadText(checkpoint / "state.json"));
+    result.step = state.at("step").get<int64_t>();
+  } catch (const std::exception&) {
+    result.step = 0;
+  }
+  return result.ToJson();
 }
 
 namespace {
@@ -192,8 +244,12 @@ struct Trainer::Impl {
   std::unique_ptr<Collector> collector;
   std::unique_ptr<Algorithm> algorithm;
   std::unique_ptr<Evaluator> evaluator;
+  std::optional<TaskSet> eval_tasks;
+  std::unique_ptr<MetaTestProtocol> meta_test;
   std::unique_ptr<RunLog> metrics_log;
   std::unique_ptr<RunLog> eval_log;
+  std::unique_ptr<RunLog> meta_test_log;
+  std::optional<nlohmann::json> last_meta_test;  // this session's
 
   // counters (checkpointed)
   int64_t step = 0;
@@ -201,16 +257,19 @@ struct Trainer::Impl {
   double wall_before = 0.0;  // wall time of earlier sessions
   std::optional<EvalResult> last_eval;
 
-  void Setup(const TrainConfig& c, TaskSet t, const fs::path& run_dir);
+  void Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet> held_out,
+             const fs::path& run_dir);
   EvalResult Evaluate();
   fs::path SaveCheckpoint();
   void LoadCheckpoint(const fs::path& dir);
   TrainSummary Run(const TrainCallbacks& callbacks);
 };
 
-void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, const fs::path& run_dir) {
+void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet> held_out,
+                          const fs::path& run_dir) {
   config = c;
   tasks = std::move(t);
+  eval_tasks = std::move(held_out);
   paths = RunPaths{run_dir};
   facts = InspectEnvs(tasks, registry);
   num_tasks = tasks.size();
@@ -229,11 +288,23 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, const fs::path& run_d
   evaluator = std::make_unique<Evaluator>(tasks, registry, config.experiment.eval_episodes,
                                           MixSeed(config.experiment.seed, kEvalSeedStream),
                                           config.experiment.num_threads);
+  if (eval_tasks) {
+    CheckEvalTasks(*eval_tasks, facts, registry);
+    meta_test = std::make_unique<MetaTestProtocol>(
+        *eval_tasks, registry, config.meta_test,
+        MixSeed(config.experiment.seed, kMetaTestSeedStream), config.experiment.num_threads);
+  }
 }
 
 EvalResult Trainer::Impl::Evaluate() {
   EvalResult result = evaluator->Run(algorithm->actor());
   result.step = step;
+  if (meta_test) {
+    MetaTestResult meta = meta_test->RunMetaTest(algorithm->actor());
+    meta.step = step;
+    last_meta_test = meta.ToJson();
+    meta_test_log->Append(*last_meta_test);
+  }
   return result;
 }
 
@@ -407,6 +478,7 @@ TrainSummary Trainer::Impl::Run(const TrainCallbacks& callbacks) {
   summary.env_steps_per_s = p.env_steps_per_s;
   summary.updates_per_s = p.updates_per_s;
   summary.final_eval = last_eval;
+  summary.final_meta_test = last_meta_test;
   if (summary.finished) {
     nlohmann::json json = summary.ToJson();
     json["run_dir"] = paths.dir.string();
@@ -434,26 +506,41 @@ Trainer Trainer::Create(const TrainConfig& config) {
                       run_dir.string() + "` or choose another experiment.run_dir");
   }
   TaskSet tasks = ResolveTasks(config.env, DefaultRegistry());
+  std::optional<TaskSet> held_out;
+  if (config.eval_env) {
+    try {
+      held_out = ResolveTasks(*config.eval_env, DefaultRegistry());
+    } catch (const ConfigError& e) {
+      throw ConfigError(std::string("eval_env: ") + e.what());
+    }
+  }
   auto impl = std::make_unique<Impl>();
-  impl->Setup(config, std::move(tasks), run_dir);
+  impl->Setup(config, std::move(tasks), std::move(held_out), run_dir);
   std::error_code ec;
   fs::create_directories(run_dir, ec);
   if (ec) {
     throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
   }
   AtomicWriteFile(paths.config(), DumpYaml(config.ToJson()));
+  if (impl->eval_tasks) {
+    AtomicWriteFile(paths.eval_tasks(), impl->eval_tasks->ToJson().dump(2) + "\n");
+  }
   AtomicWriteFile(paths.tasks(), impl->tasks.ToJson().dump(2) + "\n");
   impl->metrics_log = std::make_unique<RunLog>(run_dir, "metrics");
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
   impl->metrics_log->TruncateAfter(0);
   impl->eval_log->TruncateAfter(0);
+  if (impl->eval_tasks) {
+    impl->meta_test_log = std::make_unique<RunLog>(run_dir, "meta_test");
+    impl->meta_test_log->TruncateAfter(0);
+  }
   return Trainer(std::move(impl));
 }
 
 Trainer Trainer::Resume(const fs::path& run_dir) {
   RunInfo info = RunInfo::Read(run_dir);
   auto impl = std::make_unique<Impl>();
-  impl->Setup(info.config, std::move(info.tasks), run_dir);
+  impl->Setup(info.config, std::move(info.tasks), std::move(info.eval_tasks), run_dir);
   std::optional<fs::path> checkpoint;
   try {
     checkpoint = LatestCheckpoint(run_dir);
@@ -466,6 +553,10 @@ Trainer Trainer::Resume(const fs::path& run_dir) {
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
   impl->metrics_log->TruncateAfter(impl->step);
   impl->eval_log->TruncateAfter(impl->step);
+  if (impl->eval_tasks) {
+    impl->meta_test_log = std::make_unique<RunLog>(run_dir, "meta_test");
+    impl->meta_test_log->TruncateAfter(impl->step);
+  }
   return Trainer(std::move(impl));
 }
 

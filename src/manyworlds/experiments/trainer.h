@@ -78,6 +78,8 @@ struct TrainSummary {
   double env_steps_per_s = 0.0;
   double updates_per_s = 0.0;
   std::optional<EvalResult> final_eval;
+  // The last meta-test (MetaTestResult::ToJson) of runs with an eval_env.
+  std::optional<nlohmann::json> final_meta_test;
   nlohmann::json ToJson() const;
 };
 
@@ -86,6 +88,8 @@ struct RunPaths {
   std::filesystem::path dir;
   std::filesystem::path config() const { return dir / "config.yaml"; }
   std::filesystem::path tasks() const { return dir / "tasks.json"; }
+  // The held-out tasks of the meta-test (runs with an eval_env only).
+  std::filesystem::path eval_tasks() const { return dir / "eval_tasks.json"; }
   std::filesystem::path checkpoints() const { return dir / "checkpoints"; }
   std::filesystem::path summary() const { return dir / "summary.json"; }
 };
@@ -99,6 +103,7 @@ std::filesystem::path LatestCheckpoint(const std::filesystem::path& run_dir);
 struct RunInfo {
   TrainConfig config;
   TaskSet tasks;
+  std::optional<TaskSet> eval_tasks;  // eval_tasks.json, if the run has an eval_env
   static RunInfo Read(const std::filesystem::path& run_dir);
 };
 
@@ -107,6 +112,13 @@ struct RunInfo {
 // or by `seed` when given. Throws Error on a corrupt checkpoint.
 EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
                               int64_t episodes, std::optional<uint64_t> seed = std::nullopt);
+
+// Runs the meta-test protocol (meta_test_protocol.h) with the run's
+// meta_test settings on its held-out tasks, for the learner saved in a
+// checkpoint directory. Throws ConfigError if the run has no eval_env
+// (no held-out tasks), Error on a corrupt checkpoint.
+nlohmann::json MetaTestCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
+                                  std::optional<uint64_t> seed = std::nullopt);
 
 class Trainer {
  public:

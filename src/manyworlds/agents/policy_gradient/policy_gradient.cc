@@ -118,7 +118,7 @@ nn::ActionDistribution PolicyGradientLearner::PolicyOn(const PolicySamples& s,
 }
 
 ActOutput PolicyGradientLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
-                                     ActorState&, ActMode mode) {
+                                     ActorState& state, ActMode mode) {
   c10::InferenceMode inference;
   if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim || task_index.dim() != 1 ||
       task_index.size(0) != obs.size(0)) {
@@ -128,7 +128,8 @@ ActOutput PolicyGradientLearner::Act(const torch::Tensor& obs, const torch::Tens
   const nn::ActionDistribution d =
       policy_->Forward(NetworkInput(obs, task_index), Heads(task_index));
   ActOutput out;
-  out.action = mode == ActMode::kSample ? d.Sample(generator_) : d.Mode();
+  out.action =
+      mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
   out.log_prob = d.LogProb(out.action);
   return out;
 }

@@ -178,7 +178,9 @@ ActorState TePpoLearner::Initial(int64_t num_envs) {
 void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& state) {
   c10::InferenceMode inference;
   if (!state.latent.defined() || state.latent.size(0) != envs.size(0)) {
+    std::optional<at::Generator> own = state.generator;
     state = Initial(envs.size(0));
+    state.generator = own;
     return;
   }
   state.latent = torch::where(envs.to(torch::kBool).unsqueeze(1),
@@ -199,17 +201,23 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   if (mode == ActMode::kDeterministic) {
     latent = encoder_->Forward(OneHot(task_index)).mean;
   } else {
-    if (!state.latent.defined() || state.latent.size(0) != n) state = Initial(n);
+    if (!state.latent.defined() || state.latent.size(0) != n) {
+      std::optional<at::Generator> own = state.generator;
+      state = Initial(n);
+      state.generator = own;
+    }
     const torch::Tensor fresh = state.latent.select(1, 0).isnan();
     if (fresh.any().item<bool>()) {  // the encoder runs only where episodes begin
-      const torch::Tensor drawn = encoder_->Forward(OneHot(task_index)).Sample(generator_);
+      const torch::Tensor drawn =
+          encoder_->Forward(OneHot(task_index)).Sample(SamplingGenerator(state, generator_));
       state.latent = torch::where(fresh.unsqueeze(1), drawn, state.latent);
     }
     latent = state.latent;
   }
   const nn::ActionDistribution d = policy_->Forward(torch::cat({obs, latent}, -1));
   ActOutput out;
-  out.action = mode == ActMode::kSample ? d.Sample(generator_) : d.Mode();
+  out.action =
+      mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
   out.log_prob = d.LogProb(out.action);
   out.latent = latent;  // state updates replace state.latent, never write into it
   return out;

@@ -1,0 +1,275 @@
+#include "manyworlds/agents/rl2/rl2.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/threads.h"
+#include "manyworlds/rl/generator.h"
+
+namespace manyworlds::agents {
+namespace {
+
+template <typename T>
+void Require(bool ok, const char* field, const char* allowed, const T& value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
+  throw ConfigError(msg.str());
+}
+
+bool Positive(double x) { return std::isfinite(x) && x > 0; }
+
+const Rl2Config& Validated(const Rl2Config& c) {
+  c.Validate();
+  return c;
+}
+
+// Marks an RL2 checkpoint (PPO/TRPO write their own algorithm code).
+constexpr int64_t kCheckpointCode = 0x726c32;  // "rl2"
+
+}  // namespace
+
+void Rl2Config::Validate() const {
+  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
+  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
+  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+          init_std);
+  Require(Positive(lr), "lr", "finite and > 0", lr);
+  Require(epochs >= 1 && epochs <= 10000, "epochs", "in [1, 10000]", epochs);
+  Require(minibatch_trials >= 1 && minibatch_trials <= 1000000, "minibatch_trials",
+          "in [1, 1e6]", minibatch_trials);
+  Require(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
+  Require(std::isfinite(max_grad_norm) && max_grad_norm >= 0, "max_grad_norm",
+          "finite and >= 0", max_grad_norm);
+  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  Require(entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
+          "entropy_method", "one of regularized, max, none", entropy_method);
+  Require(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
+          "finite and >= 0", entropy_coeff);
+  Require(episodes_per_trial >= 1 && episodes_per_trial <= 100000, "episodes_per_trial",
+          "in [1, 100000]", episodes_per_trial);
+  Require(std::isfinite(context_reward_scale), "context_reward_scale", "finite",
+          context_reward_scale);
+}
+
+Rl2Learner::Rl2Learner(const Rl2Config& config, const PolicySpaces& spaces)
+    : config_(Validated(config)),
+      spaces_(spaces),
+      generator_(rl::MakeGenerator(config.seed)),
+      baseline_(1) {
+  if (spaces.obs_dim <= 0 || spaces.action_dim <= 0) {
+    throw ConfigError("rl2: obs_dim and action_dim must be > 0");
+  }
+  nn::ConfigureTorchThreads();
+  context_dim_ = (spaces.num_actions > 0 ? spaces.num_actions : spaces.action_dim) + 2;
+  const int64_t input_dim = spaces.obs_dim + context_dim_;
+  gru_ = nn::Gru(input_dim, config.hidden_dim, generator_);
+  nn::StochasticPolicyOptions head;
+  head.input_dim = config.hidden_dim;
+  head.action_dim = spaces.action_dim;
+  head.num_actions = spaces.num_actions;
+  head.num_layers = 0;  // linear from the GRU state
+  head.init_std = config.init_std;
+  head.min_std = config.min_std;
+  head.max_std = config.max_std;
+  head_ = nn::StochasticPolicy(head, generator_);
+  modules_ = {gru_.get(), head_.get()};
+  for (const nn::FlatModule* m : modules_) {
+    optimizers_.emplace_back(m->num_params(), nn::AdamOptions{.lr = config.lr});
+  }
+  baseline_ = rl::LinearFeatureBaseline(input_dim);
+}
+
+torch::Tensor Rl2Learner::Context(const torch::Tensor& actions, const torch::Tensor& rewards,
+                                  const torch::Tensor& ended) const {
+  const torch::Tensor a =
+      spaces_.num_actions > 0
+          ? torch::one_hot(actions.squeeze(-1).to(torch::kInt64), spaces_.num_actions)
+                .to(torch::kFloat32)
+          : actions.clamp(-1.0, 1.0);
+  return torch::cat({a, (rewards * config_.context_reward_scale).unsqueeze(-1),
+                     ended.unsqueeze(-1)},
+                    -1);
+}
+
+ActorState Rl2Learner::Initial(int64_t num_envs) {
+  ActorState state;
+  state.hidden = torch::zeros({num_envs, config_.hidden_dim});
+  state.context = torch::zeros({num_envs, context_dim_});
+  return state;
+}
+
+ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorState& state,
+                          ActMode mode) {
+  c10::InferenceMode inference;
+  const int64_t n = obs.size(0);
+  if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim) {
+    throw Error("rl2 actor: expected obs (N, " + std::to_string(spaces_.obs_dim) + ")");
+  }
+  if (!state.hidden.defined() || state.hidden.size(0) != n) {
+    std::optional<at::Generator> own = state.generator;
+    state = Initial(n);
+    state.generator = own;
+  }
+  const torch::Tensor x = torch::cat({obs, state.context}, -1).unsqueeze(0);
+  auto [out, h] = gru_->Forward(x, state.hidden);
+  state.hidden = h;
+  const nn::ActionDistribution d = head_->Forward(out[0]);
+  ActOutput result;
+  result.action =
+      mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
+  result.log_prob = d.LogProb(result.action);
+  return result;
+}
+
+void Rl2Learner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
+  if (scope == ResetScope::kEpisode) return;  // the trial goes on
+  c10::InferenceMode inference;
+  if (!state.hidden.defined() || state.hidden.size(0) != envs.size(0)) {
+    std::optional<at::Generator> own = state.generator;
+    state = Initial(envs.size(0));
+    state.generator = own;
+    return;
+  }
+  const torch::Tensor keep = envs.to(torch::kBool).logical_not().unsqueeze(1).to(torch::kFloat32);
+  state.hidden = state.hidden * keep;
+  state.context = state.context * keep;
+}
+
+void Rl2Learner::Observe(const StepOutcome& outcome, ActorState& state) {
+  c10::InferenceMode inference;
+  state.context = Context(outcome.action, outcome.reward, outcome.ended);
+}
+
+nn::ActionDistribution Rl2Learner::Unroll(const torch::Tensor& x) const {
+  const torch::Tensor h0 = torch::zeros({x.size(1), config_.hidden_dim});
+  const torch::Tensor out = gru_->Forward(x, h0).first;
+  return head_->Forward(out.reshape({-1, config_.hidden_dim}));
+}
+
+Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
+  const int64_t steps = rollout.steps();
+  const int64_t envs = rollout.envs();
+  // the policy's inputs: obs and the previous step's context (zeros first)
+  torch::Tensor context = torch::zeros({steps, envs, context_dim_});
+  if (steps > 1) {
+    context.narrow(0, 1, steps - 1)
+        .copy_(Context(rollout.actions.narrow(0, 0, steps - 1),
+                       rollout.rewards.narrow(0, 0, steps - 1),
+                       rollout.ended.narrow(0, 0, steps - 1)));
+  }
+  const torch::Tensor x = torch::cat({rollout.obs, context}, -1);  // (T, N, in)
+  const torch::Tensor flat_x = x.reshape({steps * envs, -1});
+  const torch::Tensor trial_step =
+      torch::arange(steps, torch::kFloat32).unsqueeze(1).expand({steps, envs}).reshape({-1});
+
+  // one sequence per trial, ending (terminally) at the trial's last step
+  torch::Tensor trial_end = torch::zeros({steps, envs});
+  trial_end[steps - 1].fill_(1.0f);
+  const torch::Tensor no_bootstrap = torch::zeros({steps, envs});
+  torch::Tensor rewards = rollout.rewards;
+  if (config_.entropy_method == "max" && config_.entropy_coeff > 0) {
+    rewards = rewards - config_.entropy_coeff * rollout.log_probs;
+  }
+  const torch::Tensor values = baseline_.Predict(flat_x, trial_step).reshape({steps, envs});
+  RequireFinite(values, "rl2", "the baseline's values");
+  const torch::Tensor advantages = rl::ComputeGae(rewards, values, trial_end, trial_end,
+                                                  no_bootstrap, config_.discount,
+                                                  config_.gae_lambda);
+  const torch::Tensor mc_returns =
+      rl::ComputeGae(rewards, torch::zeros_like(values), trial_end, trial_end, no_bootstrap,
+                     config_.discount, 1.0);
+  Metrics metrics;
+  metrics.Set("explained_variance", ExplainedVariance(values.reshape({-1}),
+                                                      mc_returns.reshape({-1})));
+  baseline_.Fit(flat_x, trial_step, mc_returns.reshape({-1}));
+  torch::Tensor adv = advantages;
+  if (config_.center_advantages && adv.numel() > 1) {
+    adv = (adv - adv.mean()) / (adv.std() + 1e-8);
+  }
+  metrics.Set("trial_return", rollout.rewards.sum(0).mean().item<double>());
+
+  const double regularizer =
+      config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
+  const int64_t mb = std::min(config_.minibatch_trials, envs);
+  double policy_loss = 0, entropy = 0, kl = 0, clipped = 0;
+  int64_t count = 0;
+  for (int64_t epoch = 0; epoch < config_.epochs; ++epoch) {
+    const torch::Tensor perm = torch::randperm(envs, generator_, torch::kInt64);
+    policy_loss = entropy = kl = clipped = 0;
+    count = 0;
+    for (int64_t lo = 0; lo < envs; lo += mb) {
+      const torch::Tensor cols = perm.narrow(0, lo, std::min(mb, envs - lo));
+      const nn::ActionDistribution d = Unroll(x.index_select(1, cols));
+      const int64_t rows = steps * cols.size(0);
+      const ClippedSurrogate surrogate = ClippedSurrogateLoss(
+          d.LogProb(rollout.actions.index_select(1, cols).reshape({rows, -1})),
+          rollout.log_probs.index_select(1, cols).reshape({rows}),
+          adv.index_select(1, cols).reshape({rows}), config_.clip_range);
+      const torch::Tensor ent = d.Entropy().mean();
+      const torch::Tensor loss = surrogate.loss - regularizer * ent;
+      for (nn::FlatModule* m : modules_) m->ZeroGrad();
+      loss.backward();
+      ClipGradNorm(modules_, config_.max_grad_norm);
+      for (size_t i = 0; i < modules_.size(); ++i) {
+        optimizers_[i].Step(modules_[i]->flat(), modules_[i]->flat_grad());
+      }
+      policy_loss += loss.item<double>();
+      entropy += ent.item<double>();
+      kl += surrogate.approx_kl;
+      clipped += surrogate.clip_fraction;
+      ++count;
+    }
+  }
+  for (const nn::FlatModule* m : modules_) RequireFinite(m->flat(), "rl2", "the policy's parameters");
+  // the last epoch's means
+  metrics.Set("policy_loss", policy_loss / count);
+  metrics.Set("entropy", entropy / count);
+  metrics.Set("approx_kl", kl / count);
+  metrics.Set("clip_fraction", clipped / count);
+  ++num_updates_;
+  return metrics;
+}
+
+void Rl2Learner::Save(torch::serialize::OutputArchive& archive) const {
+  archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
+  archive.write("sizes", torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim},
+                                       torch::kInt64));
+  WriteModule(archive, "gru", *gru_);
+  WriteModule(archive, "head", *head_);
+  WriteOptimizer(archive, "gru_optimizer", optimizers_[0]);
+  WriteOptimizer(archive, "head_optimizer", optimizers_[1]);
+  archive.write("linear_baseline", baseline_.coefficients());
+  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
+  archive.write("generator", generator_.get_state());
+}
+
+void Rl2Learner::Load(torch::serialize::InputArchive& archive) {
+  torch::Tensor algo, sizes, coefficients, num_updates, state;
+  const torch::Tensor expected =
+      torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim}, torch::kInt64);
+  if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
+      algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
+      !torch::equal(sizes, expected)) {
+    throw Error("rl2 checkpoint: not a checkpoint of RL2 with these sizes");
+  }
+  ReadModule(archive, "gru", *gru_);
+  ReadModule(archive, "head", *head_);
+  ReadOptimizer(archive, "gru_optimizer", optimizers_[0]);
+  ReadOptimizer(archive, "head_optimizer", optimizers_[1]);
+  archive.read("linear_baseline", coefficients);
+  baseline_.set_coefficients(coefficients);
+  archive.read("num_updates", num_updates);
+  num_updates_ = num_updates.item<int64_t>();
+  archive.read("generator", state);
+  generator_.set_state(state);
+}
+
+}  // namespace manyworlds::agents

@@ -1,0 +1,259 @@
+#include "manyworlds/experiments/meta_test_protocol.h"
+
+#include <algorithm>
+#include <chrono>
+#include <sstream>
+
+#include <torch/torch.h>
+
+#include "manyworlds/agents/actor.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/rng.h"
+#include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/episode_tracker.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+constexpr int64_t kMaxEnvs = 64;
+
+nlohmann::json OptionalJson(const std::optional<double>& v) {
+  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+}
+
+// Rows where `frozen` is true keep their values from `before` (a waiting
+// env's actor state does not move). Per-env tensors have the env first.
+torch::Tensor KeepRows(const torch::Tensor& before, const torch::Tensor& after,
+                       const torch::Tensor& frozen) {
+  if (!before.defined() || !after.defined() || before.sizes() != after.sizes()) return after;
+  std::vector<int64_t> shape(after.dim(), 1);
+  shape[0] = after.size(0);
+  return torch::where(frozen.reshape(shape), before, after);
+}
+
+void Freeze(agents::ActorState& state, const agents::ActorState& before,
+            const torch::Tensor& frozen) {
+  c10::InferenceMode inference;
+  state.hidden = KeepRows(before.hidden, state.hidden, frozen);
+  state.latent = KeepRows(before.latent, state.latent, frozen);
+  state.context = KeepRows(before.context, state.context, frozen);
+}
+
+// Sums over the episodes of one phase of one task.
+struct PhaseTotals {
+  double returns = 0.0, successes = 0.0;
+  int64_t episodes = 0;
+};
+
+}  // namespace
+
+void MetaTestConfig::Validate() const {
+  auto fail = [](const char* field, const char* allowed, int64_t value) {
+    std::ostringstream msg;
+    msg << "'meta_test." << field << "' must be " << allowed << ", got " << value;
+    throw ConfigError(msg.str());
+  };
+  if (exploration_episodes < 0 || exploration_episodes > 10000) {
+    fail("exploration_episodes", "in [0, 10000]", exploration_episodes);
+  }
+  if (evaluation_episodes < 1 || evaluation_episodes > 10000) {
+    fail("evaluation_episodes", "in [1, 10000]", evaluation_episodes);
+  }
+  if (trials_per_task < 1 || trials_per_task > 100000) {
+    fail("trials_per_task", "in [1, 100000]", trials_per_task);
+  }
+}
+
+nlohmann::json MetaTestResult::ToJson() const {
+  nlohmann::json tasks = nlohmann::json::object();
+  for (const auto& t : per_task) {
+    tasks[t.task] = {{"success", OptionalJson(t.success)},
+                     {"return", t.mean_return},
+                     {"pre_adaptation_success", OptionalJson(t.pre_success)},
+                     {"pre_adaptation_return", config.exploration_episodes > 0
+                                                   ? nlohmann::json(t.pre_mean_return)
+                                                   : nlohmann::json(nullptr)},
+                     {"trial_return", t.trial_return}};
+  }
+  return {{"step", step},
+          {"success_rate", OptionalJson(success_rate)},
+          {"return", mean_return},
+          {"pre_adaptation_success_rate", OptionalJson(pre_adaptation_success_rate)},
+          {"pre_adaptation_return", config.exploration_episodes > 0
+                                        ? nlohmann::json(pre_adaptation_return)
+                                        : nlohmann::json(nullptr)},
+          {"trial_return", trial_return},
+          {"exploration_episodes", config.exploration_episodes},
+          {"evaluation_episodes", config.evaluation_episodes},
+          {"trials_per_task", config.trials_per_task},
+          {"per_task", tasks},
+          {"wall_s", wall_s}};
+}
+
+EvalResult MetaTestResult::AsEvalResult() const {
+  EvalResult r;
+  r.step = step;
+  r.episodes_per_task = config.trials_per_task * config.evaluation_episodes;
+  for (const auto& t : per_task) {
+    TaskEvalResult task;
+    task.task = t.task;
+    task.success = t.success;
+    task.mean_return = t.mean_return;
+    r.per_task.push_back(std::move(task));
+  }
+  r.mean_success = success_rate;
+  r.mean_return = mean_return;
+  r.wall_s = wall_s;
+  return r;
+}
+
+MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& registry,
+                                   const MetaTestConfig& config, uint64_t seed, int num_threads)
+    : tasks_(test_tasks), config_(config), seed_(seed) {
+  config.Validate();
+  facts_ = InspectEnvs(test_tasks, registry);
+  const int64_t cap = std::max<int64_t>(1, kMaxEnvs / test_tasks.size());
+  const int64_t waves = (config.trials_per_task + cap - 1) / cap;
+  slots_ = (config.trials_per_task + waves - 1) / waves;
+  std::vector<std::unique_ptr<Env>> envs;
+  for (int64_t t = 0; t < test_tasks.size(); ++t) {
+    for (int64_t j = 0; j < slots_; ++j) envs.push_back(test_tasks.MakeEnv(t, registry));
+  }
+  exec_ = std::make_unique<BatchedExecutor>(
+      std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
+}
+
+MetaTestProtocol::~MetaTestProtocol() = default;
+
+MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
+  const auto start = std::chrono::steady_clock::now();
+  const int64_t num_tasks = tasks_.size();
+  const int64_t n = num_tasks * slots_;
+  const int64_t obs_dim = facts_.obs_dim;
+  const int64_t info_size = static_cast<int64_t>(exec_->info_fields().size());
+  const bool has_success = facts_.success_index >= 0;
+  const bool observe = actor.WantsOutcomes();
+  torch::Tensor task_index = torch::empty({n}, torch::kInt64);
+  for (int64_t i = 0; i < n; ++i) task_index[i] = i / slots_;
+  std::vector<float> env_actions(n * facts_.action_dim);
+  // [phase][task]; phase 0 = exploration, 1 = evaluation
+  std::vector<std::vector<PhaseTotals>> totals(2, std::vector<PhaseTotals>(num_tasks));
+  std::vector<double> ep_return(n);
+  std::vector<char> ep_success(n);
+  std::vector<int64_t> episodes_done(n);
+  torch::Tensor waiting = torch::zeros({n}, torch::kBool);
+  bool* waiting_flags = waiting.data_ptr<bool>();
+  agents::StepOutcome outcome;
+  outcome.reward = torch::zeros({n});
+  outcome.ended = torch::zeros({n});
+  float* reward_out = outcome.reward.data_ptr<float>();
+  float* ended_out = outcome.ended.data_ptr<float>();
+
+  for (int64_t first = 0; first < config_.trials_per_task; first += slots_) {
+    agents::ActorState state = actor.Initial(n);
+    // sampled actions from the protocol's own stream
+    state.generator = at::make_generator<at::CPUGeneratorImpl>(MixSeed(seed_, first));
+    std::vector<char> in_trial(n);
+    for (int64_t i = 0; i < n; ++i) in_trial[i] = first + i % slots_ < config_.trials_per_task;
+    const torch::Tensor trial_envs = torch::from_blob(in_trial.data(), {n}, torch::kBool).clone();
+    for (int phase = 0; phase < 2; ++phase) {
+      const int64_t count =
+          phase == 0 ? config_.exploration_episodes : config_.evaluation_episodes;
+      if (count == 0) continue;
+      const agents::ActMode mode = phase == 0 || config_.sample_evaluation
+                                       ? agents::ActMode::kSample
+                                       : agents::ActMode::kDeterministic;
+      for (int64_t i = 0; i < n; ++i) {
+        const int64_t t = i / slots_;
+        const int64_t v = first + i % slots_;
+        Env& env = exec_->env(static_cast<int>(i));
+        const uint64_t trial_seed = MixSeed(MixSeed(seed_, t), v);
+        env.Seed(MixSeed(trial_seed, phase));
+        env.SeedTask(MixSeed(trial_seed + 1, phase));
+        const auto& variations = tasks_.tasks[t].variations;
+        exec_->SetTaskState(static_cast<int>(i), variations[v % variations.size()]);
+        ep_return[i] = 0.0;
+        ep_success[i] = 0;
+        episodes_done[i] = 0;
+        waiting_flags[i] = !in_trial[i];
+      }
+      int64_t remaining = std::count(in_trial.begin(), in_trial.end(), 1);
+      while (remaining > 0) {
+        const torch::Tensor obs = torch::from_blob(const_cast<float*>(exec_->env_obs().data()),
+                                                   {n, obs_dim}, torch::kFloat32);
+        const agents::ActorState before = state;
+        const torch::Tensor action =
+            actor.Act(obs, task_index, state, mode).action.contiguous();
+        PolicyToEnvActions(action.data_ptr<float>(), n, facts_, env_actions.data());
+        exec_->Step(env_actions);
+        const auto rewards = exec_->rewards();
+        const auto terminated = exec_->terminated();
+        const auto truncated = exec_->truncated();
+        const auto info = exec_->info();
+        if (observe) {
+          for (int64_t i = 0; i < n; ++i) {
+            reward_out[i] = rewards[i];
+            ended_out[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
+          }
+          outcome.action = action;
+          actor.Observe(outcome, state);
+        }
+        Freeze(state, before, waiting);
+        for (int64_t i = 0; i < n; ++i) {
+          if (waiting_flags[i]) continue;
+          ep_return[i] += rewards[i];
+          if (has_success && info[i * info_size + facts_.success_index] > kSuccessThreshold) {
+            ep_success[i] = 1;
+          }
+          if (terminated[i] || truncated[i]) {
+            PhaseTotals& p = totals[phase][i / slots_];
+            p.returns += ep_return[i];
+            p.successes += ep_success[i];
+            ++p.episodes;
+            ep_return[i] = 0.0;
+            ep_success[i] = 0;
+            if (++episodes_done[i] == count) {
+              waiting_flags[i] = true;
+              --remaining;
+            }
+          }
+        }
+      }
+      if (phase == 0) actor.Adapt(trial_envs, state);
+    }
+  }
+
+  MetaTestResult result;
+  result.config = config_;
+  double success_sum = 0.0, pre_success_sum = 0.0;
+  for (int64_t t = 0; t < num_tasks; ++t) {
+    const PhaseTotals& pre = totals[0][t];
+    const PhaseTotals& post = totals[1][t];
+    MetaTestTaskResult r;
+    r.task = tasks_.tasks[t].name;
+    r.mean_return = post.returns / post.episodes;
+    if (has_success) r.success = post.successes / post.episodes;
+    if (pre.episodes > 0) {
+      r.pre_mean_return = pre.returns / pre.episodes;
+      if (has_success) r.pre_success = pre.successes / pre.episodes;
+    }
+    r.trial_return = (pre.returns + post.returns) / config_.trials_per_task;
+    result.mean_return += r.mean_return / num_tasks;
+    result.pre_adaptation_return += r.pre_mean_return / num_tasks;
+    result.trial_return += r.trial_return / num_tasks;
+    success_sum += r.success.value_or(0.0);
+    pre_success_sum += r.pre_success.value_or(0.0);
+    result.per_task.push_back(std::move(r));
+  }
+  if (has_success) {
+    result.success_rate = success_sum / num_tasks;
+    if (config_.exploration_episodes > 0) {
+      result.pre_adaptation_success_rate = pre_success_sum / num_tasks;
+    }
+  }
+  result.wall_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace manyworlds::experiments

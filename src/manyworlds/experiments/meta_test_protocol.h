@@ -1,0 +1,94 @@
+// The meta-test protocol (garage's MetaEvaluator, Meta-World v3's
+// metalearning_evaluation; meta-rl.md 1.0, metaworld.md 4.2): for every test
+// task and each of its variations, one trial in one env:
+//  1. exploration_episodes episodes with the actor sampling (the
+//     exploration policy), the actor seeing every step's outcome;
+//  2. Actor::Adapt;
+//  3. evaluation_episodes episodes with the adapted actor (deterministic
+//     actions unless sample_evaluation).
+// An episode is a success if `success` > 0.5 at any step. Per task: the
+// success rate and mean return of the evaluation episodes (after
+// adaptation) and of the exploration episodes (before), and the mean total
+// return of a trial (the RL2 bandit score).
+//
+// Phases run in lockstep: an env that has finished its episodes of a phase
+// waits, its actor state frozen, until every env has; each phase starts
+// with a fresh episode. Sampled actions come from a generator of the
+// protocol's seed (ActorState::generator), so a meta-test during training and
+// `eval --protocol meta-test` on the same checkpoint give the same numbers. Env seeds: trial v of task t uses MixSeed(MixSeed(
+// seed, t), v) and runs on variation v mod (number of variations).
+#ifndef MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
+#define MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "manyworlds/core/executor.h"
+#include "manyworlds/core/registry.h"
+#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/task_set.h"
+#include "manyworlds/experiments/train_config.h"
+
+namespace manyworlds::experiments {
+
+// Seed stream of meta-test trials (mixed with the run seed).
+inline constexpr uint64_t kMetaTestSeedStream = 0x6d657461;  // "meta"
+
+struct MetaTestTaskResult {
+  std::string task;
+  std::optional<double> success;      // evaluation episodes
+  double mean_return = 0.0;
+  std::optional<double> pre_success;  // exploration episodes
+  double pre_mean_return = 0.0;
+  double trial_return = 0.0;          // mean total return of a trial
+};
+
+struct MetaTestResult {
+  int64_t step = 0;
+  MetaTestConfig config;
+  std::vector<MetaTestTaskResult> per_task;
+  std::optional<double> success_rate;  // mean over tasks
+  double mean_return = 0.0;
+  std::optional<double> pre_adaptation_success_rate;
+  double pre_adaptation_return = 0.0;
+  double trial_return = 0.0;
+  double wall_s = 0.0;
+
+  // {"step", "success_rate", "return", "pre_adaptation_success_rate",
+  //  "pre_adaptation_return", "trial_return", "exploration_episodes",
+  //  "evaluation_episodes", "trials_per_task",
+  //  "per_task": {name: {"success", "return", "pre_adaptation_success",
+  //                      "pre_adaptation_return", "trial_return"}}, "wall_s"}
+  nlohmann::json ToJson() const;
+  // The evaluation episodes as a multi-task result (the trainer's tables).
+  EvalResult AsEvalResult() const;
+};
+
+class MetaTestProtocol : public EvaluationProtocol {
+ public:
+  // Builds one env per trial, in waves of at most 64. Throws ConfigError as
+  // InspectEnvs does, or on a bad config.
+  MetaTestProtocol(const TaskSet& test_tasks, const Registry& registry,
+                   const MetaTestConfig& config, uint64_t seed, int num_threads);
+  ~MetaTestProtocol();
+
+  MetaTestResult RunMetaTest(agents::Actor& actor);
+  EvalResult Run(agents::Actor& actor) override { return RunMetaTest(actor).AsEvalResult(); }
+
+ private:
+  const TaskSet& tasks_;
+  MetaTestConfig config_;
+  EnvFacts facts_;
+  uint64_t seed_;
+  int64_t slots_;  // envs in one wave
+  std::unique_ptr<BatchedExecutor> exec_;
+};
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
