@@ -185,6 +185,14 @@ TEST(OnPolicyResumeTest, Rl2ResumesExactly) {
                     {"experiment.steps_per_task=2500", "experiment.eval_every=500"}, "rl2");
 }
 
+TEST(OnPolicyResumeTest, MamlResumesExactly) {
+  // the meta-test at every evaluation, the adaptation inside every iteration
+  ExpectExactResume("point_nav_maml.yaml",
+                    {"experiment.steps_per_task=3000", "experiment.eval_every=1000",
+                     "meta_test.trials_per_task=4"},
+                    "maml");
+}
+
 TEST(OnPolicyResumeTest, TrpoResumesExactly) {
   ExpectExactResume("point_nav_trpo.yaml",
                     {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "trpo");
@@ -218,7 +226,7 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
   EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
   // the registry lists every algorithm with its family
-  ASSERT_EQ(Algorithms().size(), 5u);
+  ASSERT_EQ(Algorithms().size(), 6u);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
   // every name has its own config and a builder (a short run per algorithm)
   for (const AlgorithmInfo& info : Algorithms()) {

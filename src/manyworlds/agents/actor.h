@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include <torch/torch.h>
 
@@ -33,6 +34,11 @@ struct ActorState {
   torch::Tensor hidden;   // recurrent state (N, H)
   torch::Tensor latent;   // a task latent per env (N, Z)
   torch::Tensor context;  // what the actor keeps of past steps (RL2: previous action, reward, done)
+  // Per-step records an adapting actor keeps from Observe (MAML: [obs,
+  // action, reward, ended, valid] rows of (N, D)), and its adapted policy
+  // parameters, one stacked tensor per parameter with the env first (N, ...).
+  std::vector<torch::Tensor> history;
+  std::vector<torch::Tensor> adapted;
   // When set, sampling draws from this generator instead of the learner's:
   // an evaluation protocol seeds its own, so its sampled episodes depend only
   // on its seed and never move the training's random stream.
@@ -51,6 +57,10 @@ struct StepOutcome {
   torch::Tensor action;  // (N, action_dim) as Act returned them
   torch::Tensor reward;  // (N) float
   torch::Tensor ended;   // (N) float 0/1: the episode ended (terminated or truncated)
+  torch::Tensor obs;     // (N, obs_dim) the observations the actions were taken in
+  // (N) float 0/1: 0 where the row does not count (an env waiting for the
+  // others in a meta-test phase); undefined = every row counts.
+  torch::Tensor valid;
 };
 
 struct ActOutput {

@@ -43,6 +43,9 @@ class OnPolicyLearner : public Learner {
   // are one trial per env, every round of it on the same task variation,
   // and the actor is told where trials begin (ResetScope::kTrial).
   virtual bool trials() const { return false; }
+  // > 0 (MAML): the loop calls Actor::Adapt after this many rounds of an
+  // iteration, so the rest of the trial runs with the adapted policy.
+  virtual int64_t adapt_after_rounds() const { return 0; }
 };
 
 }  // namespace manyworlds::agents

@@ -122,6 +122,9 @@ const std::vector<AlgorithmInfo>& Algorithms() {
       {"rl2", AlgorithmFamily::kOnPolicy, true, true,
        "RL2 meta-RL: a GRU policy trained with PPO over trials of several episodes of one task "
        "(garage's RL2PPO)"},
+      {"maml", AlgorithmFamily::kOnPolicy, true, true,
+       "MAML-TRPO meta-RL: one inner policy-gradient step per task instance, TRPO outer step "
+       "through it (garage's MAMLTRPO)"},
   };
   return list;
 }

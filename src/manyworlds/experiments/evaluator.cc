@@ -100,6 +100,7 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
           torch::from_blob(const_cast<float*>(exec_->env_obs().data()), {n, obs_dim},
                            torch::kFloat32);
       const torch::Tensor unit = policy(obs, task_index).contiguous();
+      const torch::Tensor obs_before = observe ? obs.clone() : torch::Tensor();
       PolicyToEnvActions(unit.data_ptr<float>(), n, facts_, actions.data());
       exec_->Step(actions);
       const auto rewards = exec_->rewards();
@@ -111,7 +112,7 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
           step_rewards[i] = rewards[i];
           step_ended[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
         }
-        observe(unit, step_rewards.data(), step_ended.data());
+        observe(obs_before, unit, step_rewards.data(), step_ended.data());
       }
       for (int64_t i = 0; i < n; ++i) {
         if (!active[i]) continue;
@@ -162,8 +163,10 @@ EvalResult Evaluator::Run(agents::Actor& actor) {
   const torch::Tensor all_envs = torch::ones({n}, torch::kBool);
   ObserveFn observe;
   if (actor.WantsOutcomes()) {
-    observe = [&](const torch::Tensor& actions, const float* rewards, const float* ended) {
+    observe = [&](const torch::Tensor& obs, const torch::Tensor& actions, const float* rewards,
+                  const float* ended) {
       agents::StepOutcome outcome;
+      outcome.obs = obs;
       outcome.action = actions;
       outcome.reward = torch::from_blob(const_cast<float*>(rewards), {n}, torch::kFloat32);
       outcome.ended = torch::from_blob(const_cast<float*>(ended), {n}, torch::kFloat32);

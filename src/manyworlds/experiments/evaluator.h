@@ -98,10 +98,10 @@ class Evaluator : public EvaluationProtocol {
   int64_t episodes_per_task() const { return episodes_; }
 
  private:
-  // What the envs did after a step: policy actions (N, action_dim), rewards
-  // and episode-end flags (N each).
-  using ObserveFn = std::function<void(const at::Tensor& actions, const float* rewards,
-                                       const float* ended)>;
+  // What the envs did after a step: the observations acted on (N, obs_dim),
+  // policy actions (N, action_dim), rewards and episode-end flags (N each).
+  using ObserveFn = std::function<void(const at::Tensor& obs, const at::Tensor& actions,
+                                       const float* rewards, const float* ended)>;
   // Run, calling new_episodes before each batch of episodes after the first
   // (every slot starts a new episode, on another variation, there) and
   // observe (if set) after every step.

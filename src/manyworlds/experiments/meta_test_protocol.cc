@@ -182,8 +182,11 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
         const torch::Tensor obs = torch::from_blob(const_cast<float*>(exec_->env_obs().data()),
                                                    {n, obs_dim}, torch::kFloat32);
         const agents::ActorState before = state;
+        const torch::Tensor valid = waiting.logical_not().to(torch::kFloat32);
         const torch::Tensor action =
             actor.Act(obs, task_index, state, mode).action.contiguous();
+        // obs views the executor's buffer, which the step overwrites
+        const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
         PolicyToEnvActions(action.data_ptr<float>(), n, facts_, env_actions.data());
         exec_->Step(env_actions);
         const auto rewards = exec_->rewards();
@@ -196,6 +199,8 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
             ended_out[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
           }
           outcome.action = action;
+          outcome.obs = acted_on;
+          outcome.valid = valid;
           actor.Observe(outcome, state);
         }
         Freeze(state, before, waiting);

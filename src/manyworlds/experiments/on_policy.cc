@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
@@ -133,6 +134,7 @@ class OnPolicyAlgorithm : public Algorithm {
         }
         if (observe) {
           outcome.action = buffer_.actions[t];
+          outcome.obs = buffer_.obs[t];
           outcome.reward.copy_(buffer_.rewards[t]);
           outcome.ended.copy_(buffer_.ended[t]);
           actor.Observe(outcome, state);
@@ -141,6 +143,7 @@ class OnPolicyAlgorithm : public Algorithm {
         t_act += Seconds(t1 - t0);
         t_env += Seconds(Clock::now() - t1);
       }
+      if (k + 1 == learner_->adapt_after_rounds()) actor.Adapt(all_envs, state);
     }
     const auto t2 = Clock::now();
     const agents::Metrics metrics = learner_->Update(buffer_);
@@ -217,6 +220,7 @@ int64_t RoundsPerIteration(const Config& c) {
   return c.rollout_rounds;
 }
 int64_t RoundsPerIteration(const agents::Rl2Config& c) { return c.episodes_per_trial; }
+int64_t RoundsPerIteration(const agents::MamlConfig& c) { return 2 * c.episodes_per_task; }
 
 template <class Learner, class Config>
 std::unique_ptr<Algorithm> MakeOnPolicy(const AlgorithmSetup& setup) {
@@ -235,6 +239,7 @@ const std::map<std::string, AlgorithmBuilder>& Builders() {
       {"trpo", &MakeOnPolicy<agents::TrpoLearner, agents::TrpoConfig>},
       {"te_ppo", &MakeOnPolicy<agents::TePpoLearner, agents::TePpoConfig>},
       {"rl2", &MakeOnPolicy<agents::Rl2Learner, agents::Rl2Config>},
+      {"maml", &MakeOnPolicy<agents::MamlLearner, agents::MamlConfig>},
   };
   return builders;
 }

@@ -32,7 +32,7 @@
 //     sample_evaluation: false  # evaluation episodes sample instead of the mode
 //   agent:
 //     algo: sac            # the algorithm (experiments/algorithms.h lists them:
-//                          # sac, ppo, trpo, te_ppo, rl2); the other keys are that
+//                          # sac, ppo, trpo, te_ppo, rl2, maml); the other keys are that
 //                          # algorithm's config (agents/sac_config.h,
 //                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h,
 //                          # agents/te_ppo/te_ppo_config.h),
@@ -79,6 +79,7 @@
 
 #include <variant>
 
+#include "manyworlds/agents/maml/maml_config.h"
 #include "manyworlds/agents/ppo/ppo_config.h"
 #include "manyworlds/agents/rl2/rl2_config.h"
 #include "manyworlds/agents/sac_config.h"
@@ -112,10 +113,10 @@ struct ExperimentSectionConfig {
 // alternatives are the algorithm registry's configs (algorithms.h).
 struct AgentConfig {
   std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig,
-               agents::Rl2Config>
+               agents::Rl2Config, agents::MamlConfig>
       params;
 
-  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2").
+  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2", "maml").
   std::string algo() const;
   // The typed config; ConfigError if the agent is another algorithm.
   template <class C>

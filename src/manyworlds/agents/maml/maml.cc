@@ -1,0 +1,392 @@
+#include "manyworlds/agents/maml/maml.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/trpo/trpo.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/nn/threads.h"
+#include "manyworlds/rl/generator.h"
+#include "manyworlds/rl/linear_baseline.h"
+#include "manyworlds/rl/rollout_buffer.h"
+
+namespace manyworlds::agents {
+namespace {
+
+template <typename T>
+void Require(bool ok, const char* field, const char* allowed, const T& value) {
+  if (ok) return;
+  std::ostringstream msg;
+  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
+  throw ConfigError(msg.str());
+}
+
+bool Positive(double x) { return std::isfinite(x) && x > 0; }
+
+const MamlConfig& Validated(const MamlConfig& c) {
+  c.Validate();
+  return c;
+}
+
+constexpr int64_t kCheckpointCode = 0x6d616d6c;  // "maml"
+
+// Gradients of `params` as one vector, zeros where a parameter is unused.
+torch::Tensor FlatGrad(const std::vector<torch::Tensor>& grads,
+                       at::ArrayRef<torch::Tensor> params) {
+  std::vector<torch::Tensor> parts;
+  for (size_t i = 0; i < grads.size(); ++i) {
+    parts.push_back(grads[i].defined() ? grads[i].reshape({-1})
+                                       : torch::zeros({params[i].numel()}));
+  }
+  return torch::cat(parts);
+}
+
+std::vector<torch::Tensor> Grad(const torch::Tensor& y, at::ArrayRef<torch::Tensor> params,
+                                bool create_graph) {
+  return torch::autograd::grad({y}, params.vec(), {}, /*retain_graph=*/true, create_graph,
+                               /*allow_unused=*/true);
+}
+
+// One env's data of a rollout (rows [begin, end) of column i).
+struct Column {
+  torch::Tensor obs, actions, log_probs, rewards, ended;
+};
+
+Column Slice(const rl::RolloutBuffer& r, int64_t begin, int64_t end, int64_t i) {
+  Column c;
+  const int64_t n = end - begin;
+  c.obs = r.obs.narrow(0, begin, n).select(1, i);
+  c.actions = r.actions.narrow(0, begin, n).select(1, i);
+  c.log_probs = r.log_probs.narrow(0, begin, n).select(1, i);
+  c.rewards = r.rewards.narrow(0, begin, n).select(1, i);
+  c.ended = r.ended.narrow(0, begin, n).select(1, i).clone();
+  c.ended[n - 1].fill_(1.0f);
+  return c;
+}
+
+}  // namespace
+
+void MamlConfig::Validate() const {
+  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
+  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
+  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
+  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+          init_std);
+  Require(Positive(inner_lr), "inner_lr", "finite and > 0", inner_lr);
+  Require(episodes_per_task >= 1 && episodes_per_task <= 10000, "episodes_per_task",
+          "in [1, 10000]", episodes_per_task);
+  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  Require(Positive(max_kl), "max_kl", "finite and > 0", max_kl);
+  Require(cg_iters >= 1 && cg_iters <= 1000, "cg_iters", "in [1, 1000]", cg_iters);
+  Require(std::isfinite(cg_damping) && cg_damping >= 0, "cg_damping", "finite and >= 0",
+          cg_damping);
+  Require(backtrack_ratio > 0 && backtrack_ratio < 1, "backtrack_ratio", "in (0, 1)",
+          backtrack_ratio);
+  Require(max_backtracks >= 1 && max_backtracks <= 1000, "max_backtracks", "in [1, 1000]",
+          max_backtracks);
+}
+
+MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
+    : config_(Validated(config)), spaces_(spaces), generator_(rl::MakeGenerator(config.seed)) {
+  if (spaces.obs_dim <= 0 || spaces.action_dim <= 0) {
+    throw ConfigError("maml: obs_dim and action_dim must be > 0");
+  }
+  nn::ConfigureTorchThreads();
+  nn::StochasticPolicyOptions p;
+  p.input_dim = spaces.obs_dim;  // the task is never an input: it is adapted to
+  p.action_dim = spaces.action_dim;
+  p.num_actions = spaces.num_actions;
+  p.hidden_dim = config.hidden_dim;
+  p.num_layers = config.num_layers;
+  p.init_std = config.init_std;
+  p.min_std = config.min_std;
+  p.max_std = config.max_std;
+  policy_ = nn::StochasticPolicy(p, generator_);
+}
+
+torch::Tensor MamlLearner::Advantages(const torch::Tensor& obs, const torch::Tensor& rewards,
+                                      const torch::Tensor& ended,
+                                      const torch::Tensor& valid) const {
+  torch::NoGradGuard no_grad;
+  const int64_t t_len = rewards.size(0);
+  // step within the episode, and discounted returns (every end terminal)
+  torch::Tensor steps = torch::empty({t_len});
+  torch::Tensor returns = torch::empty({t_len});
+  const float* end = ended.contiguous().data_ptr<float>();
+  const torch::Tensor r_c = rewards.contiguous();
+  const float* r = r_c.data_ptr<float>();
+  float* s = steps.data_ptr<float>();
+  float* g = returns.data_ptr<float>();
+  float t = 0.0f;
+  for (int64_t k = 0; k < t_len; ++k) {
+    s[k] = t;
+    t = end[k] > 0.5f ? 0.0f : t + 1.0f;
+  }
+  double next = 0.0;
+  for (int64_t k = t_len - 1; k >= 0; --k) {
+    if (end[k] > 0.5f) next = 0.0;
+    next = r[k] + config_.discount * next;
+    g[k] = static_cast<float>(next);
+  }
+  const torch::Tensor rows = valid.nonzero().squeeze(1);
+  rl::LinearFeatureBaseline baseline(spaces_.obs_dim);
+  baseline.Fit(obs.index_select(0, rows), steps.index_select(0, rows),
+               returns.index_select(0, rows));
+  const torch::Tensor values = baseline.Predict(obs, steps);
+  const torch::Tensor flags = ended.reshape({t_len, 1});
+  torch::Tensor adv = rl::ComputeGae(rewards.reshape({t_len, 1}), values.reshape({t_len, 1}),
+                                     flags, flags, torch::zeros({t_len, 1}), config_.discount,
+                                     config_.gae_lambda)
+                          .reshape({t_len});
+  if (config_.center_advantages && rows.size(0) > 1) {
+    const torch::Tensor a = adv.index_select(0, rows);
+    adv = (adv - a.mean()) / (a.std() + 1e-8);
+  }
+  return adv * valid;
+}
+
+std::vector<torch::Tensor> MamlLearner::InnerStep(at::ArrayRef<torch::Tensor> params,
+                                                  const MamlEpisodes& e,
+                                                  const torch::Tensor& weights,
+                                                  bool create_graph) const {
+  const nn::ActionDistribution d = policy_->Forward(e.obs, {}, params);
+  const torch::Tensor loss =
+      -(d.LogProb(e.actions) * e.advantages * weights).sum() / weights.sum().clamp_min(1.0);
+  const std::vector<torch::Tensor> grads = Grad(loss, params, create_graph);
+  std::vector<torch::Tensor> adapted;
+  for (size_t j = 0; j < params.size(); ++j) {
+    adapted.push_back(grads[j].defined() ? params[j] - config_.inner_lr * grads[j] : params[j]);
+  }
+  return adapted;
+}
+
+ActOutput MamlLearner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorState& state,
+                           ActMode mode) {
+  c10::InferenceMode inference;
+  if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim) {
+    throw Error("maml actor: expected obs (N, " + std::to_string(spaces_.obs_dim) + ")");
+  }
+  at::Generator& gen = SamplingGenerator(state, generator_);
+  auto act = [&](const nn::ActionDistribution& d) {
+    ActOutput out;
+    out.action = mode == ActMode::kSample ? d.Sample(gen) : d.Mode();
+    out.log_prob = d.LogProb(out.action);
+    return out;
+  };
+  if (state.adapted.empty()) return act(policy_->Forward(obs));
+  // each env with its own adapted parameters
+  std::vector<torch::Tensor> actions, log_probs;
+  std::vector<torch::Tensor> params(state.adapted.size());
+  for (int64_t i = 0; i < obs.size(0); ++i) {
+    for (size_t j = 0; j < params.size(); ++j) params[j] = state.adapted[j][i];
+    const ActOutput out = act(policy_->Forward(obs.narrow(0, i, 1), {}, params));
+    actions.push_back(out.action);
+    log_probs.push_back(out.log_prob);
+  }
+  ActOutput out;
+  out.action = torch::cat(actions);
+  out.log_prob = torch::cat(log_probs);
+  return out;
+}
+
+void MamlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
+  if (scope == ResetScope::kEpisode) return;
+  const torch::Tensor mask = envs.to(torch::kBool);
+  if (mask.all().item<bool>()) {
+    state.history.clear();
+    state.adapted.clear();
+    return;
+  }
+  // forget the masked rows only: their records stop counting, their policy is theta again
+  const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
+  for (torch::Tensor& row : state.history) {
+    row = row.clone();
+    row.select(1, row.size(1) - 1).mul_(keep);
+  }
+  for (size_t j = 0; j < state.adapted.size(); ++j) {
+    std::vector<int64_t> shape(state.adapted[j].dim(), 1);
+    shape[0] = mask.size(0);
+    state.adapted[j] = torch::where(mask.reshape(shape), policy_->params()[j].detach().unsqueeze(0),
+                                    state.adapted[j]);
+  }
+}
+
+void MamlLearner::Observe(const StepOutcome& o, ActorState& state) {
+  c10::InferenceMode inference;
+  const int64_t n = o.obs.size(0);
+  const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
+  state.history.push_back(torch::cat({o.obs, o.action.to(torch::kFloat32),
+                                      o.reward.reshape({n, 1}), o.ended.reshape({n, 1}),
+                                      valid.reshape({n, 1})},
+                                     1)
+                              .clone());
+}
+
+void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
+  if (state.history.empty()) return;
+  c10::InferenceMode off(false);
+  torch::AutoGradMode grad(true);
+  // (T, N, D) rows [obs, action, reward, ended, valid]; inference tensors
+  // become normal ones by the clone
+  const torch::Tensor h = torch::stack(state.history).clone();
+  const int64_t d_obs = spaces_.obs_dim, d_act = spaces_.action_dim;
+  const int64_t n = h.size(1);
+  const std::vector<torch::Tensor>& theta = policy_->params();
+  std::vector<std::vector<torch::Tensor>> rows(theta.size());
+  const torch::Tensor mask = envs.to(torch::kBool);
+  for (int64_t i = 0; i < n; ++i) {
+    std::vector<torch::Tensor> adapted;
+    if (mask[i].item<bool>()) {
+      const torch::Tensor col = h.select(1, i);
+      MamlEpisodes e;
+      e.obs = col.narrow(1, 0, d_obs);
+      e.actions = col.narrow(1, d_obs, d_act);
+      const torch::Tensor rewards = col.select(1, d_obs + d_act);
+      torch::Tensor ended = col.select(1, d_obs + d_act + 1).clone();
+      const torch::Tensor valid = col.select(1, d_obs + d_act + 2);
+      ended[ended.size(0) - 1].fill_(1.0f);
+      e.advantages = Advantages(e.obs, rewards, ended, valid);
+      for (const torch::Tensor& p : InnerStep(theta, e, valid, /*create_graph=*/false)) {
+        adapted.push_back(p.detach());
+      }
+    } else if (!state.adapted.empty()) {
+      for (const torch::Tensor& p : state.adapted) adapted.push_back(p[i]);
+    } else {
+      for (const torch::Tensor& p : theta) adapted.push_back(p.detach());
+    }
+    for (size_t j = 0; j < theta.size(); ++j) rows[j].push_back(adapted[j]);
+  }
+  state.adapted.clear();
+  for (auto& r : rows) state.adapted.push_back(torch::stack(r));
+  state.history.clear();
+}
+
+Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
+  const int64_t steps = rollout.steps();
+  const int64_t n = rollout.envs();
+  const int64_t k2 = 2 * config_.episodes_per_task;
+  if (steps % k2 != 0) {
+    throw Error("maml update: the rollout must hold 2 x episodes_per_task rounds");
+  }
+  const int64_t pre_len = steps / 2;
+  std::vector<MamlEpisodes> pre(n), post(n);
+  double pre_return = 0.0, post_return = 0.0, pre_episodes = 0.0, post_episodes = 0.0;
+  const torch::Tensor ones_pre = torch::ones({pre_len});
+  for (int64_t i = 0; i < n; ++i) {
+    const Column a = Slice(rollout, 0, pre_len, i);
+    const Column b = Slice(rollout, pre_len, steps, i);
+    pre[i] = {a.obs, a.actions, a.log_probs, Advantages(a.obs, a.rewards, a.ended, ones_pre),
+              a.rewards};
+    post[i] = {b.obs, b.actions, b.log_probs, Advantages(b.obs, b.rewards, b.ended, ones_pre),
+               b.rewards};
+    pre_return += a.rewards.sum().item<double>();
+    post_return += b.rewards.sum().item<double>();
+    pre_episodes += a.ended.sum().item<double>();
+    post_episodes += b.ended.sum().item<double>();
+  }
+  const std::vector<torch::Tensor>& params = policy_->params();
+
+  // the post-adaptation policies at the current theta (the KL's reference)
+  std::vector<nn::ActionDistribution> old(n);
+  for (int64_t i = 0; i < n; ++i) {
+    old[i] = policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false))
+                 .Detached();
+  }
+  auto objective = [&](bool create_graph, torch::Tensor* kl) {
+    torch::Tensor surrogate = torch::zeros({});
+    torch::Tensor divergence = torch::zeros({});
+    for (int64_t i = 0; i < n; ++i) {
+      const nn::ActionDistribution d =
+          policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, create_graph));
+      surrogate = surrogate +
+                  ((d.LogProb(post[i].actions) - post[i].log_probs).exp() * post[i].advantages)
+                      .mean();
+      if (kl != nullptr) divergence = divergence + old[i].KlTo(d).mean();
+    }
+    if (kl != nullptr) *kl = divergence / static_cast<double>(n);
+    return surrogate / static_cast<double>(n);
+  };
+
+  const torch::Tensor surr = objective(/*create_graph=*/true, nullptr);
+  const torch::Tensor g = FlatGrad(Grad(surr, params, false), params);
+  const double surr_before = surr.item<double>();
+  auto fisher = [&](const torch::Tensor& v) {
+    torch::Tensor kl;
+    objective(/*create_graph=*/true, &kl);
+    const torch::Tensor kl_grad = FlatGrad(Grad(kl, params, true), params);
+    const torch::Tensor hv = FlatGrad(Grad((kl_grad * v).sum(), params, false), params);
+    return hv + config_.cg_damping * v;
+  };
+  const torch::Tensor direction = ConjugateGradient(fisher, g.detach(), config_.cg_iters);
+  const double shs = direction.dot(fisher(direction)).item<double>();
+
+  Metrics m;
+  m.Set("surrogate", surr_before);
+  m.Set("pre_adaptation_return", pre_return / std::max(1.0, pre_episodes));
+  m.Set("post_adaptation_return", post_return / std::max(1.0, post_episodes));
+  bool accepted = false;
+  int64_t backtracks = config_.max_backtracks;
+  double accepted_kl = 0.0;
+  if (shs > 0 && std::isfinite(shs)) {
+    const torch::Tensor full_step = direction * std::sqrt(2.0 * config_.max_kl / shs);
+    const torch::Tensor before = policy_->flat().clone();
+    double fraction = 1.0;
+    for (int64_t k = 0; k < config_.max_backtracks; ++k, fraction *= config_.backtrack_ratio) {
+      {
+        torch::NoGradGuard no_grad;
+        policy_->flat().copy_(before + fraction * full_step);
+      }
+      torch::Tensor kl;
+      const double value = objective(/*create_graph=*/false, &kl).item<double>();
+      const double kl_value = kl.item<double>();
+      if (std::isfinite(kl_value) && kl_value <= config_.max_kl && value > surr_before) {
+        accepted = true;
+        accepted_kl = kl_value;
+        backtracks = k;
+        m.Set("surrogate_after", value);
+        break;
+      }
+    }
+    if (!accepted) {
+      torch::NoGradGuard no_grad;
+      policy_->flat().copy_(before);
+    }
+  }
+  RequireFinite(policy_->flat(), "maml", "the policy's parameters");
+  m.Set("step_accepted", accepted ? 1.0 : 0.0);
+  m.Set("backtracks", static_cast<double>(backtracks));
+  m.Set("kl", accepted_kl);
+  ++num_updates_;
+  return m;
+}
+
+void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
+  archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
+  archive.write("sizes", torch::tensor({spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions},
+                                       torch::kInt64));
+  WriteModule(archive, "policy", *policy_);
+  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
+  archive.write("generator", generator_.get_state());
+}
+
+void MamlLearner::Load(torch::serialize::InputArchive& archive) {
+  torch::Tensor algo, sizes, num_updates, state;
+  const torch::Tensor expected = torch::tensor(
+      {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions}, torch::kInt64);
+  if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
+      algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
+      !torch::equal(sizes, expected)) {
+    throw Error("maml checkpoint: not a checkpoint of MAML with these sizes");
+  }
+  ReadModule(archive, "policy", *policy_);
+  archive.read("num_updates", num_updates);
+  num_updates_ = num_updates.item<int64_t>();
+  archive.read("generator", state);
+  generator_.set_state(state);
+}
+
+}  // namespace manyworlds::agents

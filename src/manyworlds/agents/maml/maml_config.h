@@ -1,0 +1,59 @@
+// Configuration of MAML with a TRPO outer step (Finn et al. 2017; garage's
+// MAMLTRPO). Defaults follow garage's point and half-cheetah launchers
+// where they have one (meta-rl.md 1.1): Gaussian MLP policy 2 x 64 tanh with
+// std in [0.5, 1.5], one inner vanilla policy-gradient step of lr 0.1, mean
+// KL <= 0.01 for the outer TRPO step, GAE lambda 1, the linear feature
+// baseline fitted per task instance, centred advantages.
+#ifndef MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
+#define MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
+
+#include <cstdint>
+
+namespace manyworlds::agents {
+
+struct MamlConfig {
+  int64_t hidden_dim = 64;
+  int64_t num_layers = 2;
+  double init_std = 1.0;
+  double min_std = 0.5;
+  double max_std = 1.5;
+  double inner_lr = 0.1;
+  // Episodes per task instance before adaptation, and as many after: an
+  // iteration is 2 x episodes_per_task rounds, every env on one variation.
+  int64_t episodes_per_task = 10;
+  double discount = 0.99;
+  double gae_lambda = 1.0;
+  bool center_advantages = true;
+  double max_kl = 0.01;
+  int64_t cg_iters = 10;
+  double cg_damping = 1e-5;
+  double backtrack_ratio = 0.8;
+  int64_t max_backtracks = 15;
+  uint64_t seed = 0;
+
+  template <class F>
+  void VisitFields(F&& f) {
+    f("hidden_dim", hidden_dim);
+    f("num_layers", num_layers);
+    f("init_std", init_std);
+    f("min_std", min_std);
+    f("max_std", max_std);
+    f("inner_lr", inner_lr);
+    f("episodes_per_task", episodes_per_task);
+    f("discount", discount);
+    f("gae_lambda", gae_lambda);
+    f("center_advantages", center_advantages);
+    f("max_kl", max_kl);
+    f("cg_iters", cg_iters);
+    f("cg_damping", cg_damping);
+    f("backtrack_ratio", backtrack_ratio);
+    f("max_backtracks", max_backtracks);
+    f("seed", seed);
+  }
+  // Throws ConfigError naming the first bad field (prefix "agent.").
+  void Validate() const;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_

@@ -1,0 +1,134 @@
+// MAML's learner contracts: the inner step is one vanilla policy-gradient
+// step, Adapt from observed steps equals the inner step on the same data,
+// adapted envs act with their own parameters, checkpoints round-trip.
+#include "manyworlds/agents/maml/maml.h"
+
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <torch/torch.h>
+
+#include "manyworlds/core/error.h"
+
+namespace manyworlds::agents {
+namespace {
+
+PolicySpaces Spaces() {
+  PolicySpaces s;
+  s.obs_dim = 2;
+  s.action_dim = 2;
+  return s;
+}
+
+MamlConfig Small() {
+  MamlConfig c;
+  c.hidden_dim = 8;
+  c.episodes_per_task = 1;
+  return c;
+}
+
+TEST(MamlTest, InnerStepIsOnePolicyGradientStep) {
+  MamlLearner maml(Small(), Spaces());
+  MamlEpisodes e;
+  e.obs = torch::randn({6, 2});
+  e.actions = torch::randn({6, 2});
+  e.advantages = torch::randn({6});
+  const torch::Tensor w = torch::ones({6});
+  const auto& theta = maml.policy()->params();
+  const std::vector<torch::Tensor> adapted = maml.InnerStep(theta, e, w, false);
+  // by hand: theta - lr * grad(-mean(log pi * A))
+  const torch::Tensor loss =
+      -(maml.policy()->Forward(e.obs).LogProb(e.actions) * e.advantages).mean();
+  const auto grads = torch::autograd::grad({loss}, theta);
+  for (size_t j = 0; j < theta.size(); ++j) {
+    EXPECT_TRUE(torch::allclose(adapted[j], theta[j] - 0.1 * grads[j], 1e-5, 1e-6)) << j;
+  }
+  // rows of weight 0 do not count
+  torch::Tensor half = w.clone();
+  half.narrow(0, 3, 3).zero_();
+  MamlEpisodes first = e;
+  first.obs = e.obs.narrow(0, 0, 3);
+  first.actions = e.actions.narrow(0, 0, 3);
+  first.advantages = e.advantages.narrow(0, 0, 3);
+  const auto masked = maml.InnerStep(theta, e, half, false);
+  const auto three = maml.InnerStep(theta, first, torch::ones({3}), false);
+  for (size_t j = 0; j < theta.size(); ++j) {
+    EXPECT_TRUE(torch::allclose(masked[j], three[j], 1e-5, 1e-6)) << j;
+  }
+}
+
+TEST(MamlTest, AdaptFromObservedStepsGivesEachEnvItsOwnPolicy) {
+  MamlLearner maml(Small(), Spaces());
+  ActorState state;
+  torch::manual_seed(3);
+  const torch::Tensor tasks = torch::zeros({2}, torch::kInt64);
+  std::vector<torch::Tensor> obs, actions, rewards;
+  for (int t = 0; t < 4; ++t) {
+    const torch::Tensor o = torch::randn({2, 2});
+    const ActOutput out = maml.Act(o, tasks, state, ActMode::kSample);
+    const torch::Tensor r = torch::randn({2});
+    StepOutcome outcome{out.action, r, torch::full({2}, t == 3 ? 1.0f : 0.0f), o, {}};
+    maml.Observe(outcome, state);
+    obs.push_back(o);
+    actions.push_back(out.action);
+    rewards.push_back(r);
+  }
+  maml.Adapt(torch::ones({2}, torch::kBool), state);
+  ASSERT_EQ(state.adapted.size(), maml.policy()->params().size());
+  EXPECT_EQ(state.adapted[0].size(0), 2);
+  // env 1's adapted parameters = the inner step on env 1's own steps
+  MamlEpisodes e;
+  e.obs = torch::stack(obs).select(1, 1);
+  e.actions = torch::stack(actions).select(1, 1);
+  const torch::Tensor r1 = torch::stack(rewards).select(1, 1);
+  torch::Tensor ended = torch::zeros({4});
+  ended[3] = 1.0f;
+  e.advantages = maml.Advantages(e.obs, r1, ended, torch::ones({4}));
+  const auto expected = maml.InnerStep(maml.policy()->params(), e, torch::ones({4}), false);
+  for (size_t j = 0; j < expected.size(); ++j) {
+    EXPECT_TRUE(torch::allclose(state.adapted[j][1], expected[j], 1e-5, 1e-6)) << j;
+  }
+  // the two envs now act differently on the same observation
+  const torch::Tensor same = torch::zeros({2, 2});
+  const torch::Tensor a = maml.Act(same, tasks, state, ActMode::kDeterministic).action;
+  EXPECT_FALSE(torch::allclose(a[0], a[1]));
+  // a new task forgets the adaptation
+  maml.Reset(torch::ones({2}, torch::kBool), ResetScope::kTask, state);
+  EXPECT_TRUE(state.adapted.empty());
+  const torch::Tensor b = maml.Act(same, tasks, state, ActMode::kDeterministic).action;
+  EXPECT_TRUE(torch::allclose(b[0], b[1]));
+}
+
+TEST(MamlTest, CheckpointsRoundTripAndBadConfigsNameTheField) {
+  MamlLearner maml(Small(), Spaces());
+  torch::serialize::OutputArchive out;
+  maml.Save(out);
+  std::ostringstream bytes;
+  out.save_to(bytes);
+  auto load = [&](Learner& learner) {
+    torch::serialize::InputArchive in;
+    std::istringstream read(bytes.str());
+    in.load_from(read);
+    learner.Load(in);
+  };
+  MamlConfig other_seed = Small();
+  other_seed.seed = 9;
+  MamlLearner other(other_seed, Spaces());
+  load(other);
+  EXPECT_TRUE(torch::equal(other.policy()->flat(), maml.policy()->flat()));
+  PolicySpaces wider = Spaces();
+  wider.obs_dim = 3;
+  MamlLearner mismatched(Small(), wider);
+  EXPECT_THROW(load(mismatched), Error);
+  MamlConfig bad = Small();
+  bad.inner_lr = -1;
+  try {
+    bad.Validate();
+    FAIL();
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("agent.inner_lr"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace manyworlds::agents
