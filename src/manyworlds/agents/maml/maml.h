@@ -1,5 +1,5 @@
-// MAML-TRPO (Finn et al. 2017, "Model-Agnostic Meta-Learning"; garage's
-// MAMLTRPO): a policy whose parameters adapt to a task with one vanilla
+// MAML-TRPO and MAML-PPO (Finn et al. 2017, "Model-Agnostic Meta-Learning";
+// garage's MAMLTRPO and MAMLPPO): a policy whose parameters adapt to a task with one vanilla
 // policy-gradient step, meta-trained by TRPO on the post-adaptation returns
 // with gradients through the inner step.
 //
@@ -21,6 +21,10 @@
 // derivatives of the inner loss), then a backtracking line search that
 // re-adapts at every candidate.
 //
+// MAML-PPO (outer: ppo): outer_epochs Adam steps on
+// -mean_i mean_t min(r A, clip(r, 1 - clip_range, 1 + clip_range) A), r the
+// same ratio, each re-adapting from theta with create_graph.
+//
 // Meta-test: the exploration episodes are the pre-adaptation episodes;
 // Adapt takes the inner step per env from what Observe recorded.
 #ifndef MANYWORLDS_AGENTS_MAML_MAML_H_
@@ -34,6 +38,7 @@
 #include "manyworlds/agents/learner.h"
 #include "manyworlds/agents/maml/maml_config.h"
 #include "manyworlds/agents/policy_gradient/policy_gradient.h"
+#include "manyworlds/nn/flat_optim.h"
 #include "manyworlds/nn/stochastic_policy.h"
 
 namespace manyworlds::agents {
@@ -88,6 +93,7 @@ class MamlLearner : public OnPolicyLearner, public Actor {
   PolicySpaces spaces_;
   at::Generator generator_;
   nn::StochasticPolicy policy_{nullptr};
+  nn::FlatAdam outer_optimizer_;  // MAML-PPO
   int64_t num_updates_ = 0;
 };
 

@@ -3,11 +3,15 @@
 // where they have one (meta-rl.md 1.1): Gaussian MLP policy 2 x 64 tanh with
 // std in [0.5, 1.5], one inner vanilla policy-gradient step of lr 0.1, mean
 // KL <= 0.01 for the outer TRPO step, GAE lambda 1, the linear feature
-// baseline fitted per task instance, centred advantages.
+// baseline fitted per task instance, centred advantages. outer: "ppo" is
+// garage's MAMLPPO instead: outer_epochs Adam steps (lr outer_lr, garage
+// 1e-3) on the clipped post-adaptation surrogate (clip 0.5, garage's
+// lr_clip_range), gradients through the inner step as for TRPO.
 #ifndef MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
 #define MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
 
 #include <cstdint>
+#include <string>
 
 namespace manyworlds::agents {
 
@@ -24,6 +28,10 @@ struct MamlConfig {
   double discount = 0.99;
   double gae_lambda = 1.0;
   bool center_advantages = true;
+  std::string outer = "trpo";  // trpo | ppo
+  double outer_lr = 1e-3;      // ppo
+  int64_t outer_epochs = 1;    // ppo: Adam steps per iteration
+  double clip_range = 0.5;     // ppo
   double max_kl = 0.01;
   int64_t cg_iters = 10;
   double cg_damping = 1e-5;
@@ -43,6 +51,10 @@ struct MamlConfig {
     f("discount", discount);
     f("gae_lambda", gae_lambda);
     f("center_advantages", center_advantages);
+    f("outer", outer);
+    f("outer_lr", outer_lr);
+    f("outer_epochs", outer_epochs);
+    f("clip_range", clip_range);
     f("max_kl", max_kl);
     f("cg_iters", cg_iters);
     f("cg_damping", cg_damping);
