@@ -14,10 +14,12 @@
 #include <algorithm>
 #include <chrono>
 
+#include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/ppo/ppo.h"
+#include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/sac.h"
-#include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/agents/sac_timing.h"
+#include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/nn/threads.h"
@@ -34,6 +36,7 @@ struct BenchAgentArgs {
   int obs_dim = 39;
   int action_dim = 4;
   int tasks = 1;
+  int trial_length = 200;  // rl2, maml: steps per trial
   std::string architecture = "mlp";
   bool pcgrad = false;
   bool disentangled_alpha = false;
@@ -164,15 +167,101 @@ void RunBenchOnPolicy(const BenchAgentArgs& args) {
             << (args.pcgrad ? " + pcgrad" : "") << "\n";
 }
 
+// The meta-learners' update on a random trial rollout: RL2's PPO epoch over
+// whole trials (GRU unrolled, backpropagation through time, baseline fit,
+// GAE) or MAML's outer TRPO step (inner steps with create_graph, CG on
+// Fisher-vector products through them, one line-search candidate).
+void RunBenchMeta(const BenchAgentArgs& args) {
+  agents::PolicySpaces spaces;
+  spaces.obs_dim = args.obs_dim;
+  spaces.action_dim = args.action_dim;
+  std::unique_ptr<agents::OnPolicyLearner> learner;
+  if (args.agent == "rl2") {
+    agents::Rl2Config c;
+    c.hidden_dim = args.hidden;
+    c.epochs = 1;
+    c.minibatch_trials = args.minibatch;
+    c.episodes_per_trial = 1;
+    c.seed = args.seed;
+    learner = std::make_unique<agents::Rl2Learner>(c, spaces);
+  } else {
+    agents::MamlConfig c;
+    c.hidden_dim = args.hidden;
+    c.num_layers = args.layers;
+    c.episodes_per_task = 1;
+    c.max_backtracks = 1;  // one candidate: the same work on every update
+    c.seed = args.seed;
+    learner = std::make_unique<agents::MamlLearner>(c, spaces);
+  }
+  if (args.torch_threads > 0 || args.blas_threads > 0) {
+    nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
+  }
+  torch::manual_seed(static_cast<uint64_t>(args.seed));
+  const int64_t n = args.batch, t_len = args.trial_length;
+  if (args.agent == "maml" && t_len % 2 != 0) {
+    throw ConfigError("--trial-length must be even for maml (half before, half after adaptation)");
+  }
+  rl::RolloutBuffer rollout(t_len, n, args.obs_dim, args.action_dim);
+  rollout.obs.copy_(torch::randn(rollout.obs.sizes()));
+  rollout.actions.copy_(torch::randn(rollout.actions.sizes()));
+  rollout.log_probs.copy_(torch::randn(rollout.log_probs.sizes()) - 4.0);
+  rollout.rewards.copy_(torch::randn(rollout.rewards.sizes()));
+  rollout.ended.zero_();
+  rollout.ended[t_len - 1].fill_(1.0f);
+  if (args.agent == "maml") rollout.ended[t_len / 2 - 1].fill_(1.0f);
+  using Clock = std::chrono::steady_clock;
+  learner->Update(rollout);  // warm-up
+  std::vector<double> rates;
+  for (int r = 0; r < args.repeats; ++r) {
+    const auto t0 = Clock::now();
+    for (int u = 0; u < args.updates; ++u) learner->Update(rollout);
+    const double sec = std::chrono::duration<double>(Clock::now() - t0).count();
+    rates.push_back(args.updates / sec);
+  }
+  std::vector<double> sorted = rates;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const nn::ThreadInfo threads = nn::CurrentThreads();
+  const std::string unit = args.agent == "rl2"
+                               ? "one PPO epoch over the trials (minibatches of --minibatch trials)"
+                               : "one outer TRPO step (10 CG iterations, one line-search candidate)";
+  if (args.json) {
+    PrintJson({{"agent", args.agent},
+               {"trials", n},
+               {"trial_length", t_len},
+               {"minibatch", args.minibatch},
+               {"hidden", args.hidden},
+               {"layers", args.layers},
+               {"obs_dim", args.obs_dim},
+               {"action_dim", args.action_dim},
+               {"unit", unit},
+               {"updates_per_s", median},
+               {"samples_per_s", median * static_cast<double>(n * t_len)},
+               {"updates", rates},
+               {"threads",
+                {{"torch_intra_op", threads.torch_intra_op},
+                 {"blas", threads.blas_threads},
+                 {"blas_core", threads.blas_core}}}});
+    return;
+  }
+  std::cout << args.agent << ": " << Fixed(median, 2) << " updates/s ("
+            << Fixed(median * static_cast<double>(n * t_len), 0) << " samples/s), " << n
+            << " trials of " << t_len << " steps; " << unit << "\n";
+}
+
 void RunBenchAgent(const BenchAgentArgs& args) {
   if (args.agent == "ppo" || args.agent == "trpo") {
     RunBenchOnPolicy(args);
     return;
   }
+  if (args.agent == "rl2" || args.agent == "maml") {
+    RunBenchMeta(args);
+    return;
+  }
   if (args.agent != "sac") {
     throw ConfigError("--algo: unknown algorithm '" + args.agent + "'" +
-                      SuggestNearest(args.agent, {"sac", "ppo", "trpo"}) +
-                      "; allowed: sac, ppo, trpo");
+                      SuggestNearest(args.agent, {"sac", "ppo", "trpo", "rl2", "maml"}) +
+                      "; allowed: sac, ppo, trpo, rl2, maml");
   }
   agents::SacConfig config;
   config.batch_size = args.batch;
@@ -251,13 +340,18 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       "Agent updates per second: full SAC updates (critic, actor, temperature, targets) on\n"
       "random batches of the given sizes; the observation carries no task id, the\n"
       "learner conditions on the task index per --architecture");
-  cmd->add_option("--algo,--agent", args->agent, "algorithm to time: sac, ppo, trpo")
+  cmd->add_option("--algo,--agent", args->agent, "algorithm to time: sac, ppo, trpo, rl2, maml")
       ->capture_default_str();
-  cmd->add_option("--batch", args->batch, "batch size (ppo/trpo: samples in the rollout)")
+  cmd->add_option("--trial-length", args->trial_length,
+                  "rl2, maml: steps per trial (maml: half before, half after adaptation)")
+      ->capture_default_str()
+      ->check(AtLeastOne());
+  cmd->add_option("--batch", args->batch,
+                  "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials)")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--minibatch", args->minibatch,
-                  "ppo: minibatch size of the epoch; trpo: of the value fit")
+                  "ppo: minibatch size of the epoch; trpo: of the value fit; rl2: trials")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--hidden", args->hidden, "hidden width of actor and critics")
