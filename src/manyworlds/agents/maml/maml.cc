@@ -5,6 +5,7 @@
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
@@ -15,16 +16,6 @@
 
 namespace manyworlds::agents {
 namespace {
-
-template <typename T>
-void Require(bool ok, const char* field, const char* allowed, const T& value) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-  throw ConfigError(msg.str());
-}
-
-bool Positive(double x) { return std::isfinite(x) && x > 0; }
 
 const MamlConfig& Validated(const MamlConfig& c) {
   c.Validate();
@@ -70,30 +61,31 @@ Column Slice(const rl::RolloutBuffer& r, int64_t begin, int64_t end, int64_t i) 
 }  // namespace
 
 void MamlConfig::Validate() const {
-  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
-  Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
-  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
-  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
-  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-          init_std);
-  Require(Positive(inner_lr), "inner_lr", "finite and > 0", inner_lr);
-  Require(episodes_per_task >= 1 && episodes_per_task <= 10000, "episodes_per_task",
-          "in [1, 10000]", episodes_per_task);
-  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
-  Require(outer == "trpo" || outer == "ppo", "outer", "one of trpo, ppo", outer);
-  Require(Positive(outer_lr), "outer_lr", "finite and > 0", outer_lr);
-  Require(outer_epochs >= 1 && outer_epochs <= 10000, "outer_epochs", "in [1, 10000]",
-          outer_epochs);
-  Require(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
-  Require(Positive(max_kl), "max_kl", "finite and > 0", max_kl);
-  Require(cg_iters >= 1 && cg_iters <= 1000, "cg_iters", "in [1, 1000]", cg_iters);
-  Require(std::isfinite(cg_damping) && cg_damping >= 0, "cg_damping", "finite and >= 0",
-          cg_damping);
-  Require(backtrack_ratio > 0 && backtrack_ratio < 1, "backtrack_ratio", "in (0, 1)",
-          backtrack_ratio);
-  Require(max_backtracks >= 1 && max_backtracks <= 1000, "max_backtracks", "in [1, 1000]",
-          max_backtracks);
+  RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  RequireField(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
+  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
+  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
+               max_std);
+  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+               init_std);
+  RequireField(FinitePositive(inner_lr), "inner_lr", "finite and > 0", inner_lr);
+  RequireField(episodes_per_task >= 1 && episodes_per_task <= 10000, "episodes_per_task",
+               "in [1, 10000]", episodes_per_task);
+  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  RequireField(outer == "trpo" || outer == "ppo", "outer", "one of trpo, ppo", outer);
+  RequireField(FinitePositive(outer_lr), "outer_lr", "finite and > 0", outer_lr);
+  RequireField(outer_epochs >= 1 && outer_epochs <= 10000, "outer_epochs", "in [1, 10000]",
+               outer_epochs);
+  RequireField(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
+  RequireField(FinitePositive(max_kl), "max_kl", "finite and > 0", max_kl);
+  RequireField(cg_iters >= 1 && cg_iters <= 1000, "cg_iters", "in [1, 1000]", cg_iters);
+  RequireField(std::isfinite(cg_damping) && cg_damping >= 0, "cg_damping", "finite and >= 0",
+               cg_damping);
+  RequireField(backtrack_ratio > 0 && backtrack_ratio < 1, "backtrack_ratio", "in (0, 1)",
+               backtrack_ratio);
+  RequireField(max_backtracks >= 1 && max_backtracks <= 1000, "max_backtracks", "in [1, 1000]",
+               max_backtracks);
 }
 
 MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
@@ -148,10 +140,10 @@ torch::Tensor MamlLearner::Advantages(const torch::Tensor& obs, const torch::Ten
                returns.index_select(0, rows));
   const torch::Tensor values = baseline.Predict(obs, steps);
   const torch::Tensor flags = ended.reshape({t_len, 1});
-  torch::Tensor adv = rl::ComputeGae(rewards.reshape({t_len, 1}), values.reshape({t_len, 1}),
-                                     flags, flags, torch::zeros({t_len, 1}), config_.discount,
-                                     config_.gae_lambda)
-                          .reshape({t_len});
+  torch::Tensor adv =
+      rl::ComputeGae(rewards.reshape({t_len, 1}), values.reshape({t_len, 1}), flags, flags,
+                     torch::zeros({t_len, 1}), config_.discount, config_.gae_lambda)
+          .reshape({t_len});
   if (config_.center_advantages && rows.size(0) > 1) {
     const torch::Tensor a = adv.index_select(0, rows);
     adv = (adv - a.mean()) / (a.std() + 1e-8);
@@ -229,9 +221,8 @@ void MamlLearner::Observe(const StepOutcome& o, ActorState& state) {
   c10::InferenceMode inference;
   const int64_t n = o.obs.size(0);
   const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
-  state.history.push_back(torch::cat({o.obs, o.action.to(torch::kFloat32),
-                                      o.reward.reshape({n, 1}), o.ended.reshape({n, 1}),
-                                      valid.reshape({n, 1})},
+  state.history.push_back(torch::cat({o.obs, o.action.to(torch::kFloat32), o.reward.reshape({n, 1}),
+                                      o.ended.reshape({n, 1}), valid.reshape({n, 1})},
                                      1)
                               .clone());
 }
@@ -303,8 +294,8 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
   // the post-adaptation policies at the current theta (the KL's reference)
   std::vector<nn::ActionDistribution> old(n);
   for (int64_t i = 0; i < n; ++i) {
-    old[i] = policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false))
-                 .Detached();
+    old[i] =
+        policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false)).Detached();
   }
   auto objective = [&](bool create_graph, torch::Tensor* kl) {
     torch::Tensor surrogate = torch::zeros({});
@@ -312,9 +303,9 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     for (int64_t i = 0; i < n; ++i) {
       const nn::ActionDistribution d =
           policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, create_graph));
-      surrogate = surrogate +
-                  ((d.LogProb(post[i].actions) - post[i].log_probs).exp() * post[i].advantages)
-                      .mean();
+      surrogate =
+          surrogate +
+          ((d.LogProb(post[i].actions) - post[i].log_probs).exp() * post[i].advantages).mean();
       if (kl != nullptr) divergence = divergence + old[i].KlTo(d).mean();
     }
     if (kl != nullptr) *kl = divergence / static_cast<double>(n);
@@ -333,8 +324,7 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
         const nn::ActionDistribution d =
             policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, true));
         const ClippedSurrogate s = ClippedSurrogateLoss(
-            d.LogProb(post[i].actions), post[i].log_probs, post[i].advantages,
-            config_.clip_range);
+            d.LogProb(post[i].actions), post[i].log_probs, post[i].advantages, config_.clip_range);
         loss = loss + s.loss / static_cast<double>(n);
         clipped += s.clip_fraction / static_cast<double>(n);
       }
@@ -411,8 +401,8 @@ void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
 
 void MamlLearner::Load(torch::serialize::InputArchive& archive) {
   torch::Tensor algo, sizes, num_updates, state;
-  const torch::Tensor expected = torch::tensor(
-      {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions}, torch::kInt64);
+  const torch::Tensor expected =
+      torch::tensor({spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions}, torch::kInt64);
   if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
       algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
       !torch::equal(sizes, expected)) {

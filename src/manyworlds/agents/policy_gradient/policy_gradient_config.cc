@@ -4,52 +4,43 @@
 #include <cmath>
 #include <sstream>
 
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/task_conditioning.h"
 
 namespace manyworlds::agents {
-namespace {
-
-template <typename T>
-void Require(bool ok, const char* field, const char* allowed, const T& value) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-  throw ConfigError(msg.str());
-}
-
-bool Positive(double x) { return std::isfinite(x) && x > 0; }
-
-}  // namespace
-
 void PolicyGradientConfig::Validate() const {
   const auto& archs = nn::TaskConditioningArchitectures();
-  Require(std::find(archs.begin(), archs.end(), architecture) != archs.end(), "architecture",
-          "one of mlp, multihead, task_encoder, moe", architecture);
-  Require(task_embedding_dim > 0 && task_embedding_dim <= 65536, "task_embedding_dim",
-          "in [1, 65536]", task_embedding_dim);
-  Require(num_experts > 0 && num_experts <= 1024, "num_experts", "in [1, 1024]", num_experts);
-  Require(encoder_dim > 0 && encoder_dim <= 65536, "encoder_dim", "in [1, 65536]", encoder_dim);
-  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
-  Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
-  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
-  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
-  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-          init_std);
-  Require(baseline == "mlp" || baseline == "linear", "baseline", "one of mlp, linear", baseline);
-  Require(vf_hidden_dim > 0 && vf_hidden_dim <= 65536, "vf_hidden_dim", "in [1, 65536]",
-          vf_hidden_dim);
-  Require(vf_num_layers >= 0 && vf_num_layers <= 64, "vf_num_layers", "in [0, 64]",
-          vf_num_layers);
-  Require(Positive(vf_lr), "vf_lr", "finite and > 0", vf_lr);
-  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
-  Require(entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
-          "entropy_method", "one of regularized, max, none", entropy_method);
-  Require(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff", "finite and >= 0",
-          entropy_coeff);
-  Require(rollout_rounds >= 1 && rollout_rounds <= 100000, "rollout_rounds", "in [1, 100000]",
-          rollout_rounds);
+  RequireField(std::find(archs.begin(), archs.end(), architecture) != archs.end(), "architecture",
+               "one of mlp, multihead, task_encoder, moe", architecture);
+  RequireField(task_embedding_dim > 0 && task_embedding_dim <= 65536, "task_embedding_dim",
+               "in [1, 65536]", task_embedding_dim);
+  RequireField(num_experts > 0 && num_experts <= 1024, "num_experts", "in [1, 1024]", num_experts);
+  RequireField(encoder_dim > 0 && encoder_dim <= 65536, "encoder_dim", "in [1, 65536]",
+               encoder_dim);
+  RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  RequireField(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
+  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
+  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
+               max_std);
+  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+               init_std);
+  RequireField(baseline == "mlp" || baseline == "linear", "baseline", "one of mlp, linear",
+               baseline);
+  RequireField(vf_hidden_dim > 0 && vf_hidden_dim <= 65536, "vf_hidden_dim", "in [1, 65536]",
+               vf_hidden_dim);
+  RequireField(vf_num_layers >= 0 && vf_num_layers <= 64, "vf_num_layers", "in [0, 64]",
+               vf_num_layers);
+  RequireField(FinitePositive(vf_lr), "vf_lr", "finite and > 0", vf_lr);
+  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  RequireField(
+      entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
+      "entropy_method", "one of regularized, max, none", entropy_method);
+  RequireField(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
+               "finite and >= 0", entropy_coeff);
+  RequireField(rollout_rounds >= 1 && rollout_rounds <= 100000, "rollout_rounds", "in [1, 100000]",
+               rollout_rounds);
 }
 
 }  // namespace manyworlds::agents

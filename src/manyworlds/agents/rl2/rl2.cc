@@ -6,6 +6,7 @@
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/threads.h"
@@ -13,16 +14,6 @@
 
 namespace manyworlds::agents {
 namespace {
-
-template <typename T>
-void Require(bool ok, const char* field, const char* allowed, const T& value) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-  throw ConfigError(msg.str());
-}
-
-bool Positive(double x) { return std::isfinite(x) && x > 0; }
 
 const Rl2Config& Validated(const Rl2Config& c) {
   c.Validate();
@@ -35,28 +26,30 @@ constexpr int64_t kCheckpointCode = 0x726c32;  // "rl2"
 }  // namespace
 
 void Rl2Config::Validate() const {
-  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
-  Require(Positive(min_std), "min_std", "finite and > 0", min_std);
-  Require(Positive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std", max_std);
-  Require(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-          init_std);
-  Require(Positive(lr), "lr", "finite and > 0", lr);
-  Require(epochs >= 1 && epochs <= 10000, "epochs", "in [1, 10000]", epochs);
-  Require(minibatch_trials >= 1 && minibatch_trials <= 1000000, "minibatch_trials",
-          "in [1, 1e6]", minibatch_trials);
-  Require(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
-  Require(std::isfinite(max_grad_norm) && max_grad_norm >= 0, "max_grad_norm",
-          "finite and >= 0", max_grad_norm);
-  Require(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  Require(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
-  Require(entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
-          "entropy_method", "one of regularized, max, none", entropy_method);
-  Require(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
-          "finite and >= 0", entropy_coeff);
-  Require(episodes_per_trial >= 1 && episodes_per_trial <= 100000, "episodes_per_trial",
-          "in [1, 100000]", episodes_per_trial);
-  Require(std::isfinite(context_reward_scale), "context_reward_scale", "finite",
-          context_reward_scale);
+  RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
+  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
+               max_std);
+  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
+               init_std);
+  RequireField(FinitePositive(lr), "lr", "finite and > 0", lr);
+  RequireField(epochs >= 1 && epochs <= 10000, "epochs", "in [1, 10000]", epochs);
+  RequireField(minibatch_trials >= 1 && minibatch_trials <= 1000000, "minibatch_trials",
+               "in [1, 1e6]", minibatch_trials);
+  RequireField(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
+  RequireField(std::isfinite(max_grad_norm) && max_grad_norm >= 0, "max_grad_norm",
+               "finite and >= 0", max_grad_norm);
+  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
+  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  RequireField(
+      entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
+      "entropy_method", "one of regularized, max, none", entropy_method);
+  RequireField(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
+               "finite and >= 0", entropy_coeff);
+  RequireField(episodes_per_trial >= 1 && episodes_per_trial <= 100000, "episodes_per_trial",
+               "in [1, 100000]", episodes_per_trial);
+  RequireField(std::isfinite(context_reward_scale), "context_reward_scale", "finite",
+               context_reward_scale);
 }
 
 Rl2Learner::Rl2Learner(const Rl2Config& config, const PolicySpaces& spaces)
@@ -94,9 +87,8 @@ torch::Tensor Rl2Learner::Context(const torch::Tensor& actions, const torch::Ten
           ? torch::one_hot(actions.squeeze(-1).to(torch::kInt64), spaces_.num_actions)
                 .to(torch::kFloat32)
           : actions.clamp(-1.0, 1.0);
-  return torch::cat({a, (rewards * config_.context_reward_scale).unsqueeze(-1),
-                     ended.unsqueeze(-1)},
-                    -1);
+  return torch::cat(
+      {a, (rewards * config_.context_reward_scale).unsqueeze(-1), ended.unsqueeze(-1)}, -1);
 }
 
 ActorState Rl2Learner::Initial(int64_t num_envs) {
@@ -180,15 +172,13 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
   }
   const torch::Tensor values = baseline_.Predict(flat_x, trial_step).reshape({steps, envs});
   RequireFinite(values, "rl2", "the baseline's values");
-  const torch::Tensor advantages = rl::ComputeGae(rewards, values, trial_end, trial_end,
-                                                  no_bootstrap, config_.discount,
-                                                  config_.gae_lambda);
-  const torch::Tensor mc_returns =
-      rl::ComputeGae(rewards, torch::zeros_like(values), trial_end, trial_end, no_bootstrap,
-                     config_.discount, 1.0);
+  const torch::Tensor advantages = rl::ComputeGae(
+      rewards, values, trial_end, trial_end, no_bootstrap, config_.discount, config_.gae_lambda);
+  const torch::Tensor mc_returns = rl::ComputeGae(rewards, torch::zeros_like(values), trial_end,
+                                                  trial_end, no_bootstrap, config_.discount, 1.0);
   Metrics metrics;
-  metrics.Set("explained_variance", ExplainedVariance(values.reshape({-1}),
-                                                      mc_returns.reshape({-1})));
+  metrics.Set("explained_variance",
+              ExplainedVariance(values.reshape({-1}), mc_returns.reshape({-1})));
   baseline_.Fit(flat_x, trial_step, mc_returns.reshape({-1}));
   torch::Tensor adv = advantages;
   if (config_.center_advantages && adv.numel() > 1) {
@@ -196,8 +186,7 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
   }
   metrics.Set("trial_return", rollout.rewards.sum(0).mean().item<double>());
 
-  const double regularizer =
-      config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
+  const double regularizer = config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
   const int64_t mb = std::min(config_.minibatch_trials, envs);
   double policy_loss = 0, entropy = 0, kl = 0, clipped = 0;
   int64_t count = 0;
@@ -209,10 +198,10 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
       const torch::Tensor cols = perm.narrow(0, lo, std::min(mb, envs - lo));
       const nn::ActionDistribution d = Unroll(x.index_select(1, cols));
       const int64_t rows = steps * cols.size(0);
-      const ClippedSurrogate surrogate = ClippedSurrogateLoss(
-          d.LogProb(rollout.actions.index_select(1, cols).reshape({rows, -1})),
-          rollout.log_probs.index_select(1, cols).reshape({rows}),
-          adv.index_select(1, cols).reshape({rows}), config_.clip_range);
+      const ClippedSurrogate surrogate =
+          ClippedSurrogateLoss(d.LogProb(rollout.actions.index_select(1, cols).reshape({rows, -1})),
+                               rollout.log_probs.index_select(1, cols).reshape({rows}),
+                               adv.index_select(1, cols).reshape({rows}), config_.clip_range);
       const torch::Tensor ent = d.Entropy().mean();
       const torch::Tensor loss = surrogate.loss - regularizer * ent;
       for (nn::FlatModule* m : modules_) m->ZeroGrad();
@@ -228,7 +217,8 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
       ++count;
     }
   }
-  for (const nn::FlatModule* m : modules_) RequireFinite(m->flat(), "rl2", "the policy's parameters");
+  for (const nn::FlatModule* m : modules_)
+    RequireFinite(m->flat(), "rl2", "the policy's parameters");
   // the last epoch's means
   metrics.Set("policy_loss", policy_loss / count);
   metrics.Set("entropy", entropy / count);
@@ -240,8 +230,8 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
 
 void Rl2Learner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
-  archive.write("sizes", torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim},
-                                       torch::kInt64));
+  archive.write("sizes",
+                torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim}, torch::kInt64));
   WriteModule(archive, "gru", *gru_);
   WriteModule(archive, "head", *head_);
   WriteOptimizer(archive, "gru_optimizer", optimizers_[0]);
