@@ -2,6 +2,9 @@
 
 #include "manyworlds/classic/classic.h"
 #include "manyworlds/core/error.h"
+#ifdef MANYWORLDS_HAS_LOCOMOTION
+#include "manyworlds/locomotion/locomotion.h"
+#endif
 #ifdef MANYWORLDS_HAS_MANIPULATION
 #include "manyworlds/manipulation/benchmark.h"
 #include "manyworlds/manipulation/manipulation.h"
@@ -16,6 +19,9 @@ const Registry& DefaultRegistry() {
     RegisterClassicSuite(r);
 #ifdef MANYWORLDS_HAS_MANIPULATION
     RegisterManipulationSuite(r);
+#endif
+#ifdef MANYWORLDS_HAS_LOCOMOTION
+    RegisterLocomotionSuite(r);
 #endif
     return r;
   }();
