@@ -42,6 +42,14 @@ TEST(MetaWrappersTest, TerminateOnSuccessEndsTheEpisodeAtTheFirstSuccess) {
   EXPECT_TRUE(reached);
   // an env without a success field is refused
   EXPECT_THROW(TerminateOnSuccess(Make("bandit")), ConfigError);
+  // the registry option every env has builds the same wrapper
+  auto option = Make("point-nav", {{"terminate_on_success", true}});
+  option->SetTaskState(goal);
+  option->Reset();
+  bool ended = false;
+  for (int t = 0; t < 20 && !ended; ++t) ended = option->Step(right).terminated;
+  EXPECT_TRUE(ended);
+  EXPECT_THROW(Make("bandit", {{"terminate_on_success", true}}), ConfigError);
 }
 
 TEST(MetaWrappersTest, RecurrentObservationAppendsActionScaledRewardAndDone) {

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/wrappers/terminate_on_success.h"
 
 namespace manyworlds {
 namespace {
@@ -124,7 +125,7 @@ void Registry::Add(EnvRegistration registration) {
     throw ConfigError("env id '" + registration.id + "' is registered twice");
   }
   for (const auto& option : registration.options) {
-    if (option.name == kMaxEpisodeStepsOption) {
+    if (option.name == kMaxEpisodeStepsOption || option.name == kTerminateOnSuccessOption) {
       throw ConfigError("env '" + registration.id + "' declares the reserved option '" +
                         option.name + "'");
     }
@@ -132,6 +133,10 @@ void Registry::Add(EnvRegistration registration) {
   registration.options.push_back(
       {std::string(kMaxEpisodeStepsOption), OptionType::kInt, -1,
        "truncate episodes after this many steps; -1 keeps the env's default, 0 removes the limit"});
+  registration.options.push_back(
+      {std::string(kTerminateOnSuccessOption), OptionType::kBool, false,
+       "end an episode (terminated) at the first step whose `success` info is 1, as Meta-World "
+       "v3's evaluation does; only for envs with a success field"});
   entries_.push_back(std::move(registration));
 }
 
@@ -191,6 +196,9 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
                       std::to_string(limit));
   }
   if (limit >= 0) env->SetMaxEpisodeSteps(limit);
+  if (resolved.Bool(kTerminateOnSuccessOption)) {
+    env = std::make_unique<TerminateOnSuccess>(std::move(env));
+  }
   return env;
 }
 
