@@ -52,7 +52,8 @@ inline at::Generator& SamplingGenerator(ActorState& state, at::Generator& own) {
 
 // What the envs did with the actions of the last Act, for actors that build
 // their context from it (WantsOutcomes): RL2's previous action, reward and
-// episode flag; PEARL's transitions.
+// episode flag; MAML's and PEARL's transitions. The tensors may view the
+// caller's buffers and are valid only during Observe: copy what you keep.
 struct StepOutcome {
   torch::Tensor action;  // (N, action_dim) as Act returned them
   torch::Tensor reward;  // (N) float

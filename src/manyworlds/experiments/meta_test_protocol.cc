@@ -1,10 +1,10 @@
 #include "manyworlds/experiments/meta_test_protocol.h"
 
+#include <torch/torch.h>
+
 #include <algorithm>
 #include <chrono>
 #include <sstream>
-
-#include <torch/torch.h>
 
 #include "manyworlds/agents/actor.h"
 #include "manyworlds/core/error.h"
@@ -31,8 +31,15 @@ torch::Tensor KeepRows(const torch::Tensor& before, const torch::Tensor& after,
   return torch::where(frozen.reshape(shape), before, after);
 }
 
-void Freeze(agents::ActorState& state, const agents::ActorState& before,
-            const torch::Tensor& frozen) {
+// The per-env tensors of an actor state a step may change (a waiting env's
+// recorded steps are marked invalid instead; see StepOutcome::valid).
+struct PerEnvState {
+  torch::Tensor hidden, latent, context;
+  explicit PerEnvState(const agents::ActorState& s)
+      : hidden(s.hidden), latent(s.latent), context(s.context) {}
+};
+
+void Freeze(agents::ActorState& state, const PerEnvState& before, const torch::Tensor& frozen) {
   c10::InferenceMode inference;
   state.hidden = KeepRows(before.hidden, state.hidden, frozen);
   state.latent = KeepRows(before.latent, state.latent, frozen);
@@ -138,8 +145,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
   std::vector<float> env_actions(n * facts_.action_dim);
   // [phase][task]; phase 0 = exploration, 1 = evaluation
   std::vector<std::vector<PhaseTotals>> totals(2, std::vector<PhaseTotals>(num_tasks));
-  std::vector<double> ep_return(n);
-  std::vector<char> ep_success(n);
+  EpisodeTracker tracker(n, info_size, facts_.success_index);
   std::vector<int64_t> episodes_done(n);
   torch::Tensor waiting = torch::zeros({n}, torch::kBool);
   bool* waiting_flags = waiting.data_ptr<bool>();
@@ -157,8 +163,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
     for (int64_t i = 0; i < n; ++i) in_trial[i] = first + i % slots_ < config_.trials_per_task;
     const torch::Tensor trial_envs = torch::from_blob(in_trial.data(), {n}, torch::kBool).clone();
     for (int phase = 0; phase < 2; ++phase) {
-      const int64_t count =
-          phase == 0 ? config_.exploration_episodes : config_.evaluation_episodes;
+      const int64_t count = phase == 0 ? config_.exploration_episodes : config_.evaluation_episodes;
       if (count == 0) continue;
       const agents::ActMode mode = phase == 0 || config_.sample_evaluation
                                        ? agents::ActMode::kSample
@@ -172,8 +177,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
         env.SeedTask(MixSeed(trial_seed + 1, phase));
         const auto& variations = tasks_.tasks[t].variations;
         exec_->SetTaskState(static_cast<int>(i), variations[v % variations.size()]);
-        ep_return[i] = 0.0;
-        ep_success[i] = 0;
+        tracker.Restart(i);
         episodes_done[i] = 0;
         waiting_flags[i] = !in_trial[i];
       }
@@ -181,10 +185,9 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
       while (remaining > 0) {
         const torch::Tensor obs = torch::from_blob(const_cast<float*>(exec_->env_obs().data()),
                                                    {n, obs_dim}, torch::kFloat32);
-        const agents::ActorState before = state;
+        const PerEnvState before(state);
         const torch::Tensor valid = waiting.logical_not().to(torch::kFloat32);
-        const torch::Tensor action =
-            actor.Act(obs, task_index, state, mode).action.contiguous();
+        const torch::Tensor action = actor.Act(obs, task_index, state, mode).action.contiguous();
         // obs views the executor's buffer, which the step overwrites
         const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
         PolicyToEnvActions(action.data_ptr<float>(), n, facts_, env_actions.data());
@@ -192,7 +195,6 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
         const auto rewards = exec_->rewards();
         const auto terminated = exec_->terminated();
         const auto truncated = exec_->truncated();
-        const auto info = exec_->info();
         if (observe) {
           for (int64_t i = 0; i < n; ++i) {
             reward_out[i] = rewards[i];
@@ -204,25 +206,17 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
           actor.Observe(outcome, state);
         }
         Freeze(state, before, waiting);
-        for (int64_t i = 0; i < n; ++i) {
-          if (waiting_flags[i]) continue;
-          ep_return[i] += rewards[i];
-          if (has_success && info[i * info_size + facts_.success_index] > kSuccessThreshold) {
-            ep_success[i] = 1;
+        tracker.Step(rewards, terminated, truncated, exec_->info(), [&](const EpisodeRecord& r) {
+          if (waiting_flags[r.env]) return;  // past its episodes of this phase
+          PhaseTotals& p = totals[phase][r.env / slots_];
+          p.returns += r.episode_return;
+          p.successes += r.success ? 1.0 : 0.0;
+          ++p.episodes;
+          if (++episodes_done[r.env] == count) {
+            waiting_flags[r.env] = true;
+            --remaining;
           }
-          if (terminated[i] || truncated[i]) {
-            PhaseTotals& p = totals[phase][i / slots_];
-            p.returns += ep_return[i];
-            p.successes += ep_success[i];
-            ++p.episodes;
-            ep_return[i] = 0.0;
-            ep_success[i] = 0;
-            if (++episodes_done[i] == count) {
-              waiting_flags[i] = true;
-              --remaining;
-            }
-          }
-        }
+        });
       }
       if (phase == 0) actor.Adapt(trial_envs, state);
     }
@@ -256,8 +250,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
       result.pre_adaptation_success_rate = pre_success_sum / num_tasks;
     }
   }
-  result.wall_s =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }
 

@@ -39,8 +39,8 @@ constexpr uint64_t kAgentStream = 0x6167656e74;  // "agent"
 
 class OnPolicyAlgorithm : public Algorithm {
  public:
-  OnPolicyAlgorithm(const AlgorithmSetup& s,
-                    std::unique_ptr<agents::OnPolicyLearner> learner, int64_t rounds)
+  OnPolicyAlgorithm(const AlgorithmSetup& s, std::unique_ptr<agents::OnPolicyLearner> learner,
+                    int64_t rounds)
       : facts_(s.facts),
         seed_(s.config.experiment.seed),
         num_envs_(s.num_envs),
@@ -71,10 +71,6 @@ class OnPolicyAlgorithm : public Algorithm {
     const bool trials = learner_->trials();
     const bool observe = actor.WantsOutcomes();
     agents::StepOutcome outcome;
-    if (observe) {
-      outcome.reward = torch::zeros({num_envs_});
-      outcome.ended = torch::zeros({num_envs_});
-    }
     for (int64_t k = 0; k < rounds_; ++k) {
       // trial mode: the iteration's rounds are one trial on one variation per env
       collector.BeginRound(seed_, first_round + k, trials ? rounds_ : 1);
@@ -124,8 +120,8 @@ class OnPolicyAlgorithm : public Algorithm {
           any_ended = any_ended || ended;
           end[i] = ended || last ? 1.0f : 0.0f;
           // the round cuts a running episode: it ends at the current observation
-          const float* src = ended ? final_obs.data() + i * d
-                                   : (last ? next_obs.data() + i * d : nullptr);
+          const float* src =
+              ended ? final_obs.data() + i * d : (last ? next_obs.data() + i * d : nullptr);
           if (src != nullptr) {
             std::copy(src, src + d, fin + i * d);
           } else {
@@ -133,10 +129,11 @@ class OnPolicyAlgorithm : public Algorithm {
           }
         }
         if (observe) {
+          // views of this step's buffer rows (actors copy what they keep)
           outcome.action = buffer_.actions[t];
           outcome.obs = buffer_.obs[t];
-          outcome.reward.copy_(buffer_.rewards[t]);
-          outcome.ended.copy_(buffer_.ended[t]);
+          outcome.reward = buffer_.rewards[t];
+          outcome.ended = buffer_.ended[t];
           actor.Observe(outcome, state);
         }
         if (any_ended && !last) actor.Reset(ended_envs, agents::ResetScope::kEpisode, state);

@@ -1,7 +1,6 @@
 #include "manyworlds/agents/maml/maml.h"
 
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
@@ -23,17 +22,6 @@ const MamlConfig& Validated(const MamlConfig& c) {
 }
 
 constexpr int64_t kCheckpointCode = 0x6d616d6c;  // "maml"
-
-// Gradients of `params` as one vector, zeros where a parameter is unused.
-torch::Tensor FlatGrad(const std::vector<torch::Tensor>& grads,
-                       at::ArrayRef<torch::Tensor> params) {
-  std::vector<torch::Tensor> parts;
-  for (size_t i = 0; i < grads.size(); ++i) {
-    parts.push_back(grads[i].defined() ? grads[i].reshape({-1})
-                                       : torch::zeros({params[i].numel()}));
-  }
-  return torch::cat(parts);
-}
 
 std::vector<torch::Tensor> Grad(const torch::Tensor& y, at::ArrayRef<torch::Tensor> params,
                                 bool create_graph) {
@@ -63,11 +51,7 @@ Column Slice(const rl::RolloutBuffer& r, int64_t begin, int64_t end, int64_t i) 
 void MamlConfig::Validate() const {
   RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
   RequireField(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
-  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
-  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
-               max_std);
-  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-               init_std);
+  RequireStdBounds("", min_std, max_std, init_std);
   RequireField(FinitePositive(inner_lr), "inner_lr", "finite and > 0", inner_lr);
   RequireField(episodes_per_task >= 1 && episodes_per_task <= 10000, "episodes_per_task",
                "in [1, 10000]", episodes_per_task);
@@ -291,12 +275,8 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
   }
   const std::vector<torch::Tensor>& params = policy_->params();
 
-  // the post-adaptation policies at the current theta (the KL's reference)
-  std::vector<nn::ActionDistribution> old(n);
-  for (int64_t i = 0; i < n; ++i) {
-    old[i] =
-        policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false)).Detached();
-  }
+  // TRPO: the post-adaptation policies at the current theta (the KL's reference)
+  std::vector<nn::ActionDistribution> old;
   auto objective = [&](bool create_graph, torch::Tensor* kl) {
     torch::Tensor surrogate = torch::zeros({});
     torch::Tensor divergence = torch::zeros({});
@@ -339,52 +319,37 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     ++num_updates_;
     return m;
   }
+  for (int64_t i = 0; i < n; ++i) {
+    old.push_back(
+        policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false)).Detached());
+  }
   const torch::Tensor surr = objective(/*create_graph=*/true, nullptr);
-  const torch::Tensor g = FlatGrad(Grad(surr, params, false), params);
+  const torch::Tensor g = FlatGradient(Grad(surr, params, false), params);
   const double surr_before = surr.item<double>();
   auto fisher = [&](const torch::Tensor& v) {
     torch::Tensor kl;
     objective(/*create_graph=*/true, &kl);
-    const torch::Tensor kl_grad = FlatGrad(Grad(kl, params, true), params);
-    const torch::Tensor hv = FlatGrad(Grad((kl_grad * v).sum(), params, false), params);
+    const torch::Tensor kl_grad = FlatGradient(Grad(kl, params, true), params);
+    const torch::Tensor hv = FlatGradient(Grad((kl_grad * v).sum(), params, false), params);
     return hv + config_.cg_damping * v;
   };
-  const torch::Tensor direction = ConjugateGradient(fisher, g.detach(), config_.cg_iters);
-  const double shs = direction.dot(fisher(direction)).item<double>();
-
   m.Set("surrogate", surr_before);
-  bool accepted = false;
-  int64_t backtracks = config_.max_backtracks;
-  double accepted_kl = 0.0;
-  if (shs > 0 && std::isfinite(shs)) {
-    const torch::Tensor full_step = direction * std::sqrt(2.0 * config_.max_kl / shs);
-    const torch::Tensor before = policy_->flat().clone();
-    double fraction = 1.0;
-    for (int64_t k = 0; k < config_.max_backtracks; ++k, fraction *= config_.backtrack_ratio) {
-      {
+  // candidates re-adapt from each new theta (in grad mode: the inner step is a gradient)
+  const TrustRegionResult step = TrustRegionStep(
+      g, fisher, policy_->flat().clone(),
+      [&](const torch::Tensor& values) {
         torch::NoGradGuard no_grad;
-        policy_->flat().copy_(before + fraction * full_step);
-      }
-      torch::Tensor kl;
-      const double value = objective(/*create_graph=*/false, &kl).item<double>();
-      const double kl_value = kl.item<double>();
-      if (std::isfinite(kl_value) && kl_value <= config_.max_kl && value > surr_before) {
-        accepted = true;
-        accepted_kl = kl_value;
-        backtracks = k;
-        m.Set("surrogate_after", value);
-        break;
-      }
-    }
-    if (!accepted) {
-      torch::NoGradGuard no_grad;
-      policy_->flat().copy_(before);
-    }
-  }
+        policy_->flat().copy_(values);
+      },
+      [&] {
+        torch::Tensor kl;
+        const double value = objective(/*create_graph=*/false, &kl).item<double>();
+        return std::make_pair(value, kl.item<double>());
+      },
+      surr_before,
+      {config_.max_kl, config_.cg_iters, config_.backtrack_ratio, config_.max_backtracks});
+  step.WriteTo(m);
   RequireFinite(policy_->flat(), "maml", "the policy's parameters");
-  m.Set("step_accepted", accepted ? 1.0 : 0.0);
-  m.Set("backtracks", static_cast<double>(backtracks));
-  m.Set("kl", accepted_kl);
   ++num_updates_;
   return m;
 }

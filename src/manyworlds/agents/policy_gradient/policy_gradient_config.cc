@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
@@ -20,11 +19,7 @@ void PolicyGradientConfig::Validate() const {
                encoder_dim);
   RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
   RequireField(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
-  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
-  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
-               max_std);
-  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-               init_std);
+  RequireStdBounds("", min_std, max_std, init_std);
   RequireField(baseline == "mlp" || baseline == "linear", "baseline", "one of mlp, linear",
                baseline);
   RequireField(vf_hidden_dim > 0 && vf_hidden_dim <= 65536, "vf_hidden_dim", "in [1, 65536]",

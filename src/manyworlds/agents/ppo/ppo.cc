@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
 
@@ -26,20 +26,13 @@ std::string PolicyOptimizerKey(size_t i) {
 
 void PpoConfig::Validate() const {
   PolicyGradientConfig::Validate();
-  auto fail = [](const char* field, const char* allowed, double value) {
-    std::ostringstream msg;
-    msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-    throw ConfigError(msg.str());
-  };
-  if (!(std::isfinite(lr) && lr > 0)) fail("lr", "finite and > 0", lr);
-  if (epochs < 1 || epochs > 10000) fail("epochs", "in [1, 10000]", epochs);
-  if (minibatch_size < 1 || minibatch_size > 100000000) {
-    fail("minibatch_size", "in [1, 1e8]", minibatch_size);
-  }
-  if (!(clip_range > 0 && clip_range < 1)) fail("clip_range", "in (0, 1)", clip_range);
-  if (!(std::isfinite(max_grad_norm) && max_grad_norm >= 0)) {
-    fail("max_grad_norm", "finite and >= 0", max_grad_norm);
-  }
+  RequireField(FinitePositive(lr), "lr", "finite and > 0", lr);
+  RequireField(epochs >= 1 && epochs <= 10000, "epochs", "in [1, 10000]", epochs);
+  RequireField(minibatch_size >= 1 && minibatch_size <= 100000000, "minibatch_size", "in [1, 1e8]",
+               minibatch_size);
+  RequireField(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
+  RequireField(std::isfinite(max_grad_norm) && max_grad_norm >= 0, "max_grad_norm",
+               "finite and >= 0", max_grad_norm);
 }
 
 ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
@@ -69,8 +62,7 @@ PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
 Metrics PpoLearner::Epoch(const PolicySamples& s) {
   const int64_t b = s.size();
   const int64_t mb = std::min(ppo_.minibatch_size, b);
-  const double regularizer =
-      ppo_.entropy_method == "regularized" ? ppo_.entropy_coeff : 0.0;
+  const double regularizer = ppo_.entropy_method == "regularized" ? ppo_.entropy_coeff : 0.0;
   const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
   double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0;
   double pcgrad_conflicts = 0;
@@ -87,9 +79,9 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
     const std::vector<nn::FlatModule*>& modules = policy_modules();
     for (nn::FlatModule* m : modules) m->ZeroGrad();
     if (ppo_.pcgrad) {
-      const torch::Tensor per_sample =
-          regularizer > 0 ? surrogate.per_sample - regularizer * per_sample_entropy
-                          : surrogate.per_sample;
+      const torch::Tensor per_sample = regularizer > 0
+                                           ? surrogate.per_sample - regularizer * per_sample_entropy
+                                           : surrogate.per_sample;
       pcgrad_conflicts += nn::PcGradBackward(per_sample, s.tasks.index_select(0, rows),
                                              spaces_.num_tasks, modules, generator_)
                               .conflict_fraction();

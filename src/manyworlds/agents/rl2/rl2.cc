@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
@@ -27,11 +26,7 @@ constexpr int64_t kCheckpointCode = 0x726c32;  // "rl2"
 
 void Rl2Config::Validate() const {
   RequireField(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
-  RequireField(FinitePositive(min_std), "min_std", "finite and > 0", min_std);
-  RequireField(FinitePositive(max_std) && max_std >= min_std, "max_std", "finite and >= min_std",
-               max_std);
-  RequireField(init_std >= min_std && init_std <= max_std, "init_std", "in [min_std, max_std]",
-               init_std);
+  RequireStdBounds("", min_std, max_std, init_std);
   RequireField(FinitePositive(lr), "lr", "finite and > 0", lr);
   RequireField(epochs >= 1 && epochs <= 10000, "epochs", "in [1, 10000]", epochs);
   RequireField(minibatch_trials >= 1 && minibatch_trials <= 1000000, "minibatch_trials",
@@ -55,13 +50,14 @@ void Rl2Config::Validate() const {
 Rl2Learner::Rl2Learner(const Rl2Config& config, const PolicySpaces& spaces)
     : config_(Validated(config)),
       spaces_(spaces),
+      // [a (one-hot for Discrete), r, d]
+      context_dim_((spaces.num_actions > 0 ? spaces.num_actions : spaces.action_dim) + 2),
       generator_(rl::MakeGenerator(config.seed)),
-      baseline_(1) {
+      baseline_(spaces.obs_dim + context_dim_) {
   if (spaces.obs_dim <= 0 || spaces.action_dim <= 0) {
     throw ConfigError("rl2: obs_dim and action_dim must be > 0");
   }
   nn::ConfigureTorchThreads();
-  context_dim_ = (spaces.num_actions > 0 ? spaces.num_actions : spaces.action_dim) + 2;
   const int64_t input_dim = spaces.obs_dim + context_dim_;
   gru_ = nn::Gru(input_dim, config.hidden_dim, generator_);
   nn::StochasticPolicyOptions head;
@@ -77,7 +73,6 @@ Rl2Learner::Rl2Learner(const Rl2Config& config, const PolicySpaces& spaces)
   for (const nn::FlatModule* m : modules_) {
     optimizers_.emplace_back(m->num_params(), nn::AdamOptions{.lr = config.lr});
   }
-  baseline_ = rl::LinearFeatureBaseline(input_dim);
 }
 
 torch::Tensor Rl2Learner::Context(const torch::Tensor& actions, const torch::Tensor& rewards,

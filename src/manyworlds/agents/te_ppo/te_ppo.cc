@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 #include <string>
 
-#include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
+#include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/threads.h"
 #include "manyworlds/rl/generator.h"
@@ -20,9 +20,7 @@ const TePpoConfig& Validated(const TePpoConfig& c) {
   return c;
 }
 
-torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) {
-  return on ? torch::softplus(x) : x;
-}
+torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) { return on ? torch::softplus(x) : x; }
 
 constexpr double kLogSqrt2PiE = 1.4189385332046727;  // 0.5 * log(2 pi e)
 
@@ -30,59 +28,30 @@ constexpr double kLogSqrt2PiE = 1.4189385332046727;  // 0.5 * log(2 pi e)
 
 void TePpoConfig::Validate() const {
   PpoConfig::Validate();
-  auto fail = [](const char* field, const char* allowed, const auto& value) {
-    std::ostringstream msg;
-    msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-    throw ConfigError(msg.str());
-  };
-  auto positive = [](double x) { return std::isfinite(x) && x > 0; };
-  if (architecture != "mlp") {
-    fail("architecture", "mlp for te_ppo (the learned latent replaces the one-hot)",
-         architecture);
-  }
-  if (latent_dim < 1 || latent_dim > 1024) fail("latent_dim", "in [1, 1024]", latent_dim);
-  if (encoder_hidden_dim < 1 || encoder_hidden_dim > 65536) {
-    fail("encoder_hidden_dim", "in [1, 65536]", encoder_hidden_dim);
-  }
-  if (encoder_num_layers < 0 || encoder_num_layers > 64) {
-    fail("encoder_num_layers", "in [0, 64]", encoder_num_layers);
-  }
-  if (!positive(encoder_min_std)) fail("encoder_min_std", "finite and > 0", encoder_min_std);
-  if (!(positive(encoder_max_std) && encoder_max_std >= encoder_min_std)) {
-    fail("encoder_max_std", "finite and >= encoder_min_std", encoder_max_std);
-  }
-  if (!(encoder_init_std >= encoder_min_std && encoder_init_std <= encoder_max_std)) {
-    fail("encoder_init_std", "in [encoder_min_std, encoder_max_std]", encoder_init_std);
-  }
-  if (!(std::isfinite(encoder_entropy_coeff) && encoder_entropy_coeff >= 0)) {
-    fail("encoder_entropy_coeff", "finite and >= 0", encoder_entropy_coeff);
-  }
-  if (inference_window < 1 || inference_window > 1000) {
-    fail("inference_window", "in [1, 1000]", inference_window);
-  }
-  if (inference_hidden_dim < 1 || inference_hidden_dim > 65536) {
-    fail("inference_hidden_dim", "in [1, 65536]", inference_hidden_dim);
-  }
-  if (inference_num_layers < 0 || inference_num_layers > 64) {
-    fail("inference_num_layers", "in [0, 64]", inference_num_layers);
-  }
-  if (!positive(inference_min_std)) fail("inference_min_std", "finite and > 0", inference_min_std);
-  if (!(positive(inference_max_std) && inference_max_std >= inference_min_std)) {
-    fail("inference_max_std", "finite and >= inference_min_std", inference_max_std);
-  }
-  if (!(inference_init_std >= inference_min_std && inference_init_std <= inference_max_std)) {
-    fail("inference_init_std", "in [inference_min_std, inference_max_std]", inference_init_std);
-  }
-  if (!positive(inference_lr)) fail("inference_lr", "finite and > 0", inference_lr);
-  if (inference_epochs < 0 || inference_epochs > 10000) {
-    fail("inference_epochs", "in [0, 10000]", inference_epochs);
-  }
-  if (inference_minibatch_size < 1 || inference_minibatch_size > 100000000) {
-    fail("inference_minibatch_size", "in [1, 1e8]", inference_minibatch_size);
-  }
-  if (!(std::isfinite(inference_ce_coeff) && inference_ce_coeff >= 0)) {
-    fail("inference_ce_coeff", "finite and >= 0", inference_ce_coeff);
-  }
+  RequireField(architecture == "mlp", "architecture",
+               "mlp for te_ppo (the learned latent replaces the one-hot)", architecture);
+  RequireField(latent_dim >= 1 && latent_dim <= 1024, "latent_dim", "in [1, 1024]", latent_dim);
+  RequireField(encoder_hidden_dim >= 1 && encoder_hidden_dim <= 65536, "encoder_hidden_dim",
+               "in [1, 65536]", encoder_hidden_dim);
+  RequireField(encoder_num_layers >= 0 && encoder_num_layers <= 64, "encoder_num_layers",
+               "in [0, 64]", encoder_num_layers);
+  RequireStdBounds("encoder_", encoder_min_std, encoder_max_std, encoder_init_std);
+  RequireField(std::isfinite(encoder_entropy_coeff) && encoder_entropy_coeff >= 0,
+               "encoder_entropy_coeff", "finite and >= 0", encoder_entropy_coeff);
+  RequireField(inference_window >= 1 && inference_window <= 1000, "inference_window",
+               "in [1, 1000]", inference_window);
+  RequireField(inference_hidden_dim >= 1 && inference_hidden_dim <= 65536, "inference_hidden_dim",
+               "in [1, 65536]", inference_hidden_dim);
+  RequireField(inference_num_layers >= 0 && inference_num_layers <= 64, "inference_num_layers",
+               "in [0, 64]", inference_num_layers);
+  RequireStdBounds("inference_", inference_min_std, inference_max_std, inference_init_std);
+  RequireField(FinitePositive(inference_lr), "inference_lr", "finite and > 0", inference_lr);
+  RequireField(inference_epochs >= 0 && inference_epochs <= 10000, "inference_epochs",
+               "in [0, 10000]", inference_epochs);
+  RequireField(inference_minibatch_size >= 1 && inference_minibatch_size <= 100000000,
+               "inference_minibatch_size", "in [1, 1e8]", inference_minibatch_size);
+  RequireField(std::isfinite(inference_ce_coeff) && inference_ce_coeff >= 0, "inference_ce_coeff",
+               "finite and >= 0", inference_ce_coeff);
 }
 
 TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces)
@@ -139,8 +108,8 @@ TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces
       nn::FlatAdam(inference_->num_params(), nn::AdamOptions{.lr = config.inference_lr});
   const int64_t baseline_dim = spaces.obs_dim + spaces.num_tasks + z;
   if (config.baseline == "mlp") {
-    value_ = nn::ValueNetwork(baseline_dim, config.vf_hidden_dim, config.vf_num_layers, 1,
-                              generator_);
+    value_ =
+        nn::ValueNetwork(baseline_dim, config.vf_hidden_dim, config.vf_num_layers, 1, generator_);
     value_optimizer_ = nn::FlatAdam(value_->num_params(), nn::AdamOptions{.lr = config.vf_lr});
   } else {
     linear_ = std::make_unique<rl::LinearFeatureBaseline>(baseline_dim);
@@ -183,9 +152,9 @@ void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& stat
     state.generator = own;
     return;
   }
-  state.latent = torch::where(envs.to(torch::kBool).unsqueeze(1),
-                              torch::full({}, std::numeric_limits<float>::quiet_NaN()),
-                              state.latent);
+  state.latent =
+      torch::where(envs.to(torch::kBool).unsqueeze(1),
+                   torch::full({}, std::numeric_limits<float>::quiet_NaN()), state.latent);
 }
 
 ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
@@ -216,8 +185,7 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   }
   const nn::ActionDistribution d = policy_->Forward(torch::cat({obs, latent}, -1));
   ActOutput out;
-  out.action =
-      mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
+  out.action = mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
   out.log_prob = d.LogProb(out.action);
   out.latent = latent;  // state updates replace state.latent, never write into it
   return out;
@@ -269,8 +237,8 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
             torch::exp(-enc.log_std.index_select(0, tasks));
     x_value = BaselineInput(obs, one_hot, latent);
     rollout.values.copy_(Values(x_value, t).reshape(rollout.values.sizes()));
-    const torch::Tensor final_x = BaselineInput(
-        rollout.final_obs.reshape({b, spaces_.obs_dim}), one_hot, latent);
+    const torch::Tensor final_x =
+        BaselineInput(rollout.final_obs.reshape({b, spaces_.obs_dim}), one_hot, latent);
     const torch::Tensor boot = Values(final_x, t + 1).reshape(rollout.values.sizes());
     rollout.bootstrap_values.copy_(boot * rollout.ended * (1.0 - rollout.terminated));
   }
@@ -302,8 +270,7 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
   metrics.Set("explained_variance", ExplainedVariance(rollout.values.reshape({b}), returns));
 
   // 3. policy and encoder
-  const double regularizer =
-      config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
+  const double regularizer = config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
   const int64_t mb = std::min(config_.minibatch_size, b);
   double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0, enc_entropy = 0;
   int64_t count = 0;
@@ -315,15 +282,14 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
       const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
       const torch::Tensor row_tasks = tasks.index_select(0, rows);
       const nn::ActionDistribution enc = encoder_->Forward(all_tasks);
-      const torch::Tensor z = enc.mean.index_select(0, row_tasks) +
-                              torch::exp(enc.log_std.index_select(0, row_tasks)) *
-                                  noise.index_select(0, rows);
+      const torch::Tensor z =
+          enc.mean.index_select(0, row_tasks) +
+          torch::exp(enc.log_std.index_select(0, row_tasks)) * noise.index_select(0, rows);
       const nn::ActionDistribution d =
           policy_->Forward(torch::cat({obs.index_select(0, rows), z}, -1));
-      const ClippedSurrogate surrogate =
-          ClippedSurrogateLoss(d.LogProb(actions.index_select(0, rows)),
-                               old_log_probs.index_select(0, rows), adv.index_select(0, rows),
-                               config_.clip_range);
+      const ClippedSurrogate surrogate = ClippedSurrogateLoss(
+          d.LogProb(actions.index_select(0, rows)), old_log_probs.index_select(0, rows),
+          adv.index_select(0, rows), config_.clip_range);
       const torch::Tensor ent = d.Entropy().mean();
       const torch::Tensor task_entropy = (enc.log_std + kLogSqrt2PiE).sum(-1).mean();
       const torch::Tensor loss =
@@ -425,8 +391,8 @@ void TePpoLearner::Load(torch::serialize::InputArchive& archive) {
       latent_dim.item<int64_t>() != config_.latent_dim ||
       num_tasks.item<int64_t>() != spaces_.num_tasks) {
     throw Error("te_ppo checkpoint: not a TE-PPO checkpoint with latent_dim " +
-                std::to_string(config_.latent_dim) + " and " +
-                std::to_string(spaces_.num_tasks) + " tasks");
+                std::to_string(config_.latent_dim) + " and " + std::to_string(spaces_.num_tasks) +
+                " tasks");
   }
   ReadModule(archive, "policy", *policy_);
   ReadModule(archive, "encoder", *encoder_);

@@ -1,9 +1,9 @@
 #include "manyworlds/agents/trpo/trpo.h"
 
 #include <cmath>
-#include <sstream>
 #include <vector>
 
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
 
@@ -15,41 +15,66 @@ const TrpoConfig& Validated(const TrpoConfig& c) {
   return c;
 }
 
-// Gradients of `params` as one vector; a parameter the output does not
-// depend on (undefined gradient) contributes zeros.
-torch::Tensor Flatten(const std::vector<torch::Tensor>& parts,
-                      const std::vector<torch::Tensor>& params) {
+}  // namespace
+
+void TrpoConfig::Validate() const {
+  PolicyGradientConfig::Validate();
+  RequireField(FinitePositive(max_kl), "max_kl", "finite and > 0", max_kl);
+  RequireField(cg_iters >= 1 && cg_iters <= 1000, "cg_iters", "in [1, 1000]", cg_iters);
+  RequireField(std::isfinite(cg_damping) && cg_damping >= 0, "cg_damping", ">= 0", cg_damping);
+  RequireField(backtrack_ratio > 0 && backtrack_ratio < 1, "backtrack_ratio", "in (0, 1)",
+               backtrack_ratio);
+  RequireField(max_backtracks >= 1 && max_backtracks <= 1000, "max_backtracks", "in [1, 1000]",
+               max_backtracks);
+  RequireField(vf_epochs >= 0 && vf_epochs <= 10000, "vf_epochs", "in [0, 10000]", vf_epochs);
+  RequireField(vf_minibatch_size >= 1 && vf_minibatch_size <= 100000000, "vf_minibatch_size",
+               "in [1, 1e8]", vf_minibatch_size);
+}
+
+torch::Tensor FlatGradient(const std::vector<torch::Tensor>& grads,
+                           at::ArrayRef<torch::Tensor> params) {
   std::vector<torch::Tensor> flat;
-  flat.reserve(parts.size());
-  for (size_t i = 0; i < parts.size(); ++i) {
-    flat.push_back(parts[i].defined() ? parts[i].reshape({-1})
+  flat.reserve(grads.size());
+  for (size_t i = 0; i < grads.size(); ++i) {
+    flat.push_back(grads[i].defined() ? grads[i].reshape({-1})
                                       : torch::zeros({params[i].numel()}, params[i].options()));
   }
   return torch::cat(flat);
 }
 
-}  // namespace
+void TrustRegionResult::WriteTo(Metrics& m) const {
+  m.Set("step_accepted", accepted ? 1.0 : 0.0);
+  m.Set("backtracks", static_cast<double>(backtracks));
+  m.Set("kl", kl);
+  if (accepted) m.Set("surrogate_after", surrogate_after);
+}
 
-void TrpoConfig::Validate() const {
-  PolicyGradientConfig::Validate();
-  auto fail = [](const char* field, const char* allowed, double value) {
-    std::ostringstream msg;
-    msg << "'agent." << field << "' must be " << allowed << ", got " << value;
-    throw ConfigError(msg.str());
-  };
-  if (!(std::isfinite(max_kl) && max_kl > 0)) fail("max_kl", "finite and > 0", max_kl);
-  if (cg_iters < 1 || cg_iters > 1000) fail("cg_iters", "in [1, 1000]", cg_iters);
-  if (!(std::isfinite(cg_damping) && cg_damping >= 0)) fail("cg_damping", ">= 0", cg_damping);
-  if (!(backtrack_ratio > 0 && backtrack_ratio < 1)) {
-    fail("backtrack_ratio", "in (0, 1)", backtrack_ratio);
+TrustRegionResult TrustRegionStep(const torch::Tensor& gradient,
+                                  const std::function<torch::Tensor(const torch::Tensor&)>& fisher,
+                                  const torch::Tensor& before,
+                                  const std::function<void(const torch::Tensor&)>& set_params,
+                                  const std::function<std::pair<double, double>()>& evaluate,
+                                  double surrogate_before, const TrustRegionOptions& o) {
+  TrustRegionResult result;
+  result.backtracks = o.max_backtracks;
+  const torch::Tensor direction = ConjugateGradient(fisher, gradient.detach(), o.cg_iters);
+  const double shs = direction.dot(fisher(direction)).item<double>();
+  if (!(shs > 0 && std::isfinite(shs))) return result;
+  const torch::Tensor full_step = direction * std::sqrt(2.0 * o.max_kl / shs);
+  double fraction = 1.0;
+  for (int64_t k = 0; k < o.max_backtracks; ++k, fraction *= o.backtrack_ratio) {
+    set_params(before + fraction * full_step);
+    const auto [value, kl] = evaluate();
+    if (std::isfinite(kl) && kl <= o.max_kl && value > surrogate_before) {
+      result.accepted = true;
+      result.kl = kl;
+      result.surrogate_after = value;
+      result.backtracks = k;
+      return result;
+    }
   }
-  if (max_backtracks < 1 || max_backtracks > 1000) {
-    fail("max_backtracks", "in [1, 1000]", max_backtracks);
-  }
-  if (vf_epochs < 0 || vf_epochs > 10000) fail("vf_epochs", "in [0, 10000]", vf_epochs);
-  if (vf_minibatch_size < 1 || vf_minibatch_size > 100000000) {
-    fail("vf_minibatch_size", "in [1, 1e8]", vf_minibatch_size);
-  }
+  set_params(before);
+  return result;
 }
 
 torch::Tensor ConjugateGradient(const std::function<torch::Tensor(const torch::Tensor&)>& product,
@@ -87,14 +112,14 @@ Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
     return torch::cat(parts);
   };
   auto set_flat_values = [&](const torch::Tensor& values) {
+    torch::NoGradGuard no_grad;
     int64_t offset = 0;
     for (const nn::FlatModule* m : modules) {
       m->flat().copy_(values.narrow(0, offset, m->num_params()));
       offset += m->num_params();
     }
   };
-  const double regularizer =
-      trpo_.entropy_method == "regularized" ? trpo_.entropy_coeff : 0.0;
+  const double regularizer = trpo_.entropy_method == "regularized" ? trpo_.entropy_coeff : 0.0;
   const nn::ActionDistribution old = PolicyOn(s).Detached();
 
   auto per_sample_surrogate = [&](const nn::ActionDistribution& d) {
@@ -103,9 +128,7 @@ Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
     if (regularizer > 0) value = value + regularizer * d.Entropy();
     return value;
   };
-  auto surrogate = [&](const nn::ActionDistribution& d) {
-    return per_sample_surrogate(d).mean();
-  };
+  auto surrogate = [&](const nn::ActionDistribution& d) { return per_sample_surrogate(d).mean(); };
 
   Metrics m;
   const torch::Tensor per_sample = per_sample_surrogate(PolicyOn(s));
@@ -121,9 +144,9 @@ Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
     for (const nn::FlatModule* module : modules) grads.push_back(module->flat_grad());
     g = -torch::cat(grads);
   } else {
-    g = Flatten(torch::autograd::grad({surr}, params, {}, /*retain_graph=*/c10::nullopt,
-                                      /*create_graph=*/false, /*allow_unused=*/true),
-                params);
+    g = FlatGradient(torch::autograd::grad({surr}, params, {}, /*retain_graph=*/c10::nullopt,
+                                           /*create_graph=*/false, /*allow_unused=*/true),
+                     params);
   }
   const double surr_before = surr.item<double>();
 
@@ -132,41 +155,22 @@ Metrics TrpoLearner::OptimizePolicy(const PolicySamples& s) {
     const torch::Tensor kl = old.KlTo(PolicyOn(s)).mean();
     const std::vector<torch::Tensor> kl_grad = torch::autograd::grad(
         {kl}, params, {}, /*retain_graph=*/true, /*create_graph=*/true, /*allow_unused=*/true);
-    const torch::Tensor gv = (Flatten(kl_grad, params) * v).sum();
-    const torch::Tensor hv = Flatten(torch::autograd::grad({gv}, params, {}, c10::nullopt,
-                                                           false, /*allow_unused=*/true),
-                                     params);
+    const torch::Tensor gv = (FlatGradient(kl_grad, params) * v).sum();
+    const torch::Tensor hv = FlatGradient(
+        torch::autograd::grad({gv}, params, {}, c10::nullopt, false, /*allow_unused=*/true),
+        params);
     return hv + trpo_.cg_damping * v;
   };
-  const torch::Tensor direction = ConjugateGradient(fisher, g.detach(), trpo_.cg_iters);
-  const double shs = direction.dot(fisher(direction)).item<double>();
   m.Set("surrogate", surr_before);
-  double accepted_kl = 0.0;
-  int64_t backtracks = trpo_.max_backtracks;
-  bool accepted = false;
-  if (shs > 0 && std::isfinite(shs)) {
-    const torch::Tensor full_step = direction * std::sqrt(2.0 * trpo_.max_kl / shs);
-    const torch::Tensor before = flat_values();
-    torch::NoGradGuard no_grad;
-    double fraction = 1.0;
-    for (int64_t k = 0; k < trpo_.max_backtracks; ++k, fraction *= trpo_.backtrack_ratio) {
-      set_flat_values(before + fraction * full_step);
-      const nn::ActionDistribution d = PolicyOn(s);
-      const double kl = old.KlTo(d).mean().item<double>();
-      const double value = surrogate(d).item<double>();
-      if (std::isfinite(kl) && kl <= trpo_.max_kl && value > surr_before) {
-        accepted = true;
-        accepted_kl = kl;
-        backtracks = k;
-        m.Set("surrogate_after", value);
-        break;
-      }
-    }
-    if (!accepted) set_flat_values(before);
-  }
-  m.Set("step_accepted", accepted ? 1.0 : 0.0);
-  m.Set("backtracks", static_cast<double>(backtracks));
-  m.Set("kl", accepted_kl);
+  const TrustRegionResult step = TrustRegionStep(
+      g, fisher, flat_values(), set_flat_values,
+      [&] {
+        torch::NoGradGuard no_grad;
+        const nn::ActionDistribution d = PolicyOn(s);
+        return std::make_pair(surrogate(d).item<double>(), old.KlTo(d).mean().item<double>());
+      },
+      surr_before, {trpo_.max_kl, trpo_.cg_iters, trpo_.backtrack_ratio, trpo_.max_backtracks});
+  step.WriteTo(m);
   {
     torch::NoGradGuard no_grad;
     m.Set("entropy", PolicyOn(s).Entropy().mean().item<double>());
