@@ -98,6 +98,36 @@ TEST(ReplayBufferTest, BalancedSamplingGivesEqualCountsPerTask) {
   EXPECT_THROW(empty.Sample(0, ReplaySampling::kUniform, gen), Error);
 }
 
+TEST(ReplayBufferTest, SampleTasksGroupsRowsByTheListedTasks) {
+  ReplayBuffer replay(300, 4, 2, 3);
+  for (int k = 0; k < 50; ++k) AddTransition(replay, 0, k);
+  for (int k = 0; k < 5; ++k) AddTransition(replay, 2, k);
+  auto gen = Gen(4);
+  const std::vector<int64_t> tasks = {2, 0, 2};
+  const Batch& b = replay.SampleTasks(tasks, 8, gen);
+  ASSERT_EQ(b.size(), 24);
+  for (int64_t i = 0; i < 24; ++i) {
+    EXPECT_EQ(b.task_index[i].item<int64_t>(), tasks[i / 8]) << i;
+    EXPECT_EQ(b.obs[i][0].item<float>(), static_cast<float>(tasks[i / 8])) << i;
+  }
+  EXPECT_LT(b.reward.narrow(0, 0, 8).max().item<float>(), 5.0f);  // task 2 holds k < 5
+  const std::vector<int64_t> empty_task = {1};
+  EXPECT_THROW(replay.SampleTasks(empty_task, 4, gen), Error);
+  const std::vector<int64_t> outside = {3};
+  EXPECT_THROW(replay.SampleTasks(outside, 4, gen), Error);
+  EXPECT_THROW(replay.SampleTasks(tasks, 0, gen), Error);
+
+  // clearing one task forgets it alone
+  replay.ClearTask(2);
+  EXPECT_EQ(replay.size(2), 0);
+  EXPECT_EQ(replay.size(0), 50);
+  EXPECT_THROW(replay.SampleTasks(tasks, 4, gen), Error);
+  AddTransition(replay, 2, 42);
+  const std::vector<int64_t> two = {2};
+  EXPECT_EQ(replay.SampleTasks(two, 3, gen).reward.min().item<float>(), 42.0f);
+  EXPECT_THROW(replay.ClearTask(-1), Error);
+}
+
 TEST(ReplayBufferTest, SamplingIsDeterministicGivenTheGenerator) {
   ReplayBuffer replay(100, 3, 1, 2);
   for (int k = 0; k < 50; ++k) AddTransition(replay, k % 2, k);

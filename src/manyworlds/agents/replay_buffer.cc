@@ -267,6 +267,15 @@ void ReplayBuffer::Clear() {
   std::fill(next_.begin(), next_.end(), 0);
 }
 
+void ReplayBuffer::ClearTask(int64_t task) {
+  if (task < 0 || task >= num_tasks_) {
+    throw Error("ReplayBuffer::ClearTask: task " + std::to_string(task) + " outside [0, " +
+                std::to_string(num_tasks_) + ")");
+  }
+  size_[task] = 0;
+  next_[task] = 0;
+}
+
 void ReplayBuffer::ResizeBatch(int64_t batch_size) {
   if (batch_.size() == batch_size) return;
   const auto f32 = torch::TensorOptions().dtype(torch::kFloat32);
@@ -320,6 +329,42 @@ const Batch& ReplayBuffer::Sample(int64_t batch_size, ReplaySampling sampling,
       rows[k] = Row(t, i);
     }
   }
+  return Gather();
+}
+
+const Batch& ReplayBuffer::SampleTasks(std::span<const int64_t> tasks, int64_t per_task,
+                                       at::Generator& generator) {
+  if (tasks.empty() || per_task < 1) {
+    throw Error("ReplayBuffer::SampleTasks: needs at least one task and per_task >= 1, got " +
+                std::to_string(tasks.size()) + " tasks and per_task " + std::to_string(per_task));
+  }
+  for (int64_t t : tasks) {
+    if (t < 0 || t >= num_tasks_) {
+      throw Error("ReplayBuffer::SampleTasks: task " + std::to_string(t) + " outside [0, " +
+                  std::to_string(num_tasks_) + ")");
+    }
+    if (size_[t] == 0) {
+      throw Error("ReplayBuffer::SampleTasks: task " + std::to_string(t) +
+                  " has no transitions yet");
+    }
+  }
+  const int64_t batch_size = static_cast<int64_t>(tasks.size()) * per_task;
+  ResizeBatch(batch_size);
+  const torch::Tensor u = torch::rand({batch_size}, generator, torch::kFloat64);
+  const double* uniform = u.data_ptr<double>();
+  int64_t* rows = rows_.data_ptr<int64_t>();
+  for (size_t i = 0; i < tasks.size(); ++i) {
+    const int64_t t = tasks[i];
+    const auto n = static_cast<double>(size_[t]);
+    for (int64_t j = 0; j < per_task; ++j) {
+      const int64_t k = static_cast<int64_t>(i) * per_task + j;
+      rows[k] = Row(t, std::min(static_cast<int64_t>(std::floor(uniform[k] * n)), size_[t] - 1));
+    }
+  }
+  return Gather();
+}
+
+const Batch& ReplayBuffer::Gather() {
   torch::index_select_out(batch_.obs, storage_.obs, 0, rows_);
   torch::index_select_out(batch_.action, storage_.action, 0, rows_);
   torch::index_select_out(batch_.reward, storage_.reward, 0, rows_);

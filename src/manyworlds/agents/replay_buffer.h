@@ -68,6 +68,13 @@ class ReplayBuffer {
   // Error if the buffer (or, balanced, a task) is empty or batch_size < 1.
   const Batch& Sample(int64_t batch_size, ReplaySampling sampling, at::Generator& generator);
 
+  // per_task transitions from each listed task (repeats allowed), drawn
+  // uniformly with replacement, rows grouped by task in list order (PEARL's
+  // per-task batches). Throws Error on an empty list, per_task < 1, or a
+  // task that is out of range or holds nothing.
+  const Batch& SampleTasks(std::span<const int64_t> tasks, int64_t per_task,
+                           at::Generator& generator);
+
   int64_t obs_dim() const { return obs_dim_; }
   int64_t action_dim() const { return action_dim_; }
   int64_t num_tasks() const { return num_tasks_; }
@@ -83,6 +90,9 @@ class ReplayBuffer {
 
   // Forgets every transition (keeps the allocation).
   void Clear();
+  // Forgets one task's transitions (PEARL's encoder buffer is refilled from
+  // recent data only). Throws Error for a task out of range.
+  void ClearTask(int64_t task);
 
   // Binary snapshot of the stored transitions and ring positions, with a
   // header (format, dims, partition size) and a checksum. Throws Error if the
@@ -107,6 +117,8 @@ class ReplayBuffer {
   };
   static Storage Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim);
   void ResizeBatch(int64_t batch_size);
+  // Copies the rows in rows_ into batch_.
+  const Batch& Gather();
   // Row of the `i`th stored transition of a task (oldest-first order is not
   // needed: any bijection onto the stored rows samples uniformly).
   int64_t Row(int64_t task, int64_t i) const { return task * capacity_per_task_ + i; }

@@ -5,6 +5,7 @@
 // invariant that makes resume exact) and saves everything it reads.
 //   off_policy.cc  SAC family: act, store transitions, replay updates per step
 //   on_policy.cc   PPO, TRPO: rollout_rounds rounds into a rollout buffer, one update
+//   pearl_loop.cc  PEARL: prior and posterior rounds per task, per-task replay updates
 #ifndef MANYWORLDS_EXPERIMENTS_ALGORITHM_H_
 #define MANYWORLDS_EXPERIMENTS_ALGORITHM_H_
 
@@ -23,6 +24,7 @@ namespace manyworlds::experiments {
 struct AlgorithmSetup {
   const TrainConfig& config;
   const EnvFacts& facts;
+  const TaskSet& tasks;
   int64_t num_tasks = 0;
   int64_t num_envs = 0;
   int64_t round_length = 0;  // env steps of one round (the longest episode)

@@ -125,6 +125,9 @@ const std::vector<AlgorithmInfo>& Algorithms() {
       {"maml", AlgorithmFamily::kOnPolicy, true, true,
        "MAML-TRPO meta-RL: one inner policy-gradient step per task instance, TRPO outer step "
        "through it (garage's MAMLTRPO)"},
+      {"pearl", AlgorithmFamily::kOffPolicy, false, true,
+       "PEARL meta-RL: SAC conditioned on a latent task variable inferred by a context "
+       "encoder (product of Gaussians), per-task replay (oyster's PEARL)"},
   };
   return list;
 }

@@ -10,6 +10,8 @@
 //   te_ppo on-policy   agents/te_ppo/te_ppo_config.h agents/te_ppo/te_ppo.h (TE-PPO)
 //   rl2    on-policy   agents/rl2/rl2_config.h      agents/rl2/rl2.h (RL2-PPO, trials)
 //   maml   on-policy   agents/maml/maml_config.h    agents/maml/maml.h (MAML-TRPO, trials)
+//   pearl  off-policy  agents/pearl/pearl_config.h  agents/pearl/pearl.h (PEARL, per-task
+//                                                   replay; loop in pearl_loop.cc)
 //
 // This header is torch-free: configs can be read, printed and validated
 // without the networks. MakeAlgorithm (algorithm.h) builds the learner.

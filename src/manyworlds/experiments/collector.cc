@@ -47,6 +47,7 @@ Collector::Collector(const TaskSet& tasks, const Registry& registry, const EnvFa
   exec_ = std::make_unique<BatchedExecutor>(
       std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
   env_actions_.assign(num_envs_ * facts.action_dim, 0.0f);
+  env_variations_.assign(num_envs_, 0);
 }
 
 void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial) {
@@ -67,6 +68,7 @@ void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_tria
                                 : trial_rng.UniformInt(variations.size());
     }
     exec_->SetTaskState(static_cast<int>(i), variations[v]);
+    env_variations_[i] = static_cast<int64_t>(v);
     tracker_.Restart(i);
   }
 }

@@ -57,6 +57,9 @@ class Collector {
   const EnvFacts& facts() const { return facts_; }
   // Task of each env, (num_envs) values in [0, num_tasks).
   const std::vector<int64_t>& env_tasks() const { return env_tasks_; }
+  // Variation of its task each env runs in the current round (index into
+  // TaskSpec::variations; 0 before the first BeginRound).
+  const std::vector<int64_t>& env_variations() const { return env_variations_; }
   BatchedExecutor& executor() { return *exec_; }
 
   // With rounds_per_trial > 1, rounds r and r' with the same
@@ -75,6 +78,7 @@ class Collector {
   int64_t envs_per_task_;
   int64_t num_envs_;
   std::vector<int64_t> env_tasks_;
+  std::vector<int64_t> env_variations_;
   std::unique_ptr<BatchedExecutor> exec_;
   EpisodeTracker tracker_;
   std::vector<float> env_actions_;

@@ -208,6 +208,7 @@ Config Seeded(const AlgorithmSetup& s) {
 }  // namespace
 
 std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup);
+std::unique_ptr<Algorithm> MakePearlAlgorithm(const AlgorithmSetup& setup);
 
 namespace {
 
@@ -237,6 +238,7 @@ const std::map<std::string, AlgorithmBuilder>& Builders() {
       {"te_ppo", &MakeOnPolicy<agents::TePpoLearner, agents::TePpoConfig>},
       {"rl2", &MakeOnPolicy<agents::Rl2Learner, agents::Rl2Config>},
       {"maml", &MakeOnPolicy<agents::MamlLearner, agents::MamlConfig>},
+      {"pearl", &MakePearlAlgorithm},
   };
   return builders;
 }

@@ -32,19 +32,21 @@
 //     sample_evaluation: false  # evaluation episodes sample instead of the mode
 //   agent:
 //     algo: sac            # the algorithm (experiments/algorithms.h lists them:
-//                          # sac, ppo, trpo, te_ppo, rl2, maml); the other keys are that
+//                          # sac, ppo, trpo, te_ppo, rl2, maml, pearl); the other keys are that
 //                          # algorithm's config (agents/sac_config.h,
 //                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h,
 //                          # agents/te_ppo/te_ppo_config.h),
 //                          # e.g. hidden_dim, actor_lr, architecture, pcgrad;
 //                          # agent.seed is mixed with experiment.seed
-//   replay:                # off-policy algorithms (sac) only
-//     capacity: 1000000    # transitions, split evenly per task
+//   replay:                # off-policy algorithms (sac, pearl) only
+//     capacity: 1000000    # transitions, split evenly per task (pearl: per task
+//                          # variation, in each of its RL and encoder buffers)
 //     sampling: balanced   # balanced | uniform
 //   experiment:
 //     seed: 1
 //     steps_per_task: 100000   # env steps per training env
-//     warmup_steps: 1500       # off-policy: uniform random actions first (per env)
+//     warmup_steps: 1500       # off-policy: uniform random actions first (per env);
+//                              # pearl: collection with prior z only, no updates
 //     updates_per_step: 1.0    # off-policy: gradient updates per loop step (all envs)
 //     batch_size: 0            # off-policy: transitions per update; 0 = agent.batch_size x num_tasks
 //     eval_every: 10000        # env steps per task; 0 = only at the end
@@ -71,15 +73,15 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "manyworlds/core/error.h"
 
-#include <variant>
-
 #include "manyworlds/agents/maml/maml_config.h"
+#include "manyworlds/agents/pearl/pearl_config.h"
 #include "manyworlds/agents/ppo/ppo_config.h"
 #include "manyworlds/agents/rl2/rl2_config.h"
 #include "manyworlds/agents/sac_config.h"
@@ -113,10 +115,11 @@ struct ExperimentSectionConfig {
 // alternatives are the algorithm registry's configs (algorithms.h).
 struct AgentConfig {
   std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig,
-               agents::Rl2Config, agents::MamlConfig>
+               agents::Rl2Config, agents::MamlConfig, agents::PearlConfig>
       params;
 
-  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2", "maml").
+  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2", "maml",
+  // "pearl").
   std::string algo() const;
   // The typed config; ConfigError if the agent is another algorithm.
   template <class C>

@@ -196,15 +196,11 @@ nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint
   return result.ToJson();
 }
 
-namespace {
-
-}  // namespace
-
 std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
                                           const EnvFacts& facts) {
   CheckAlgorithmEnvs(config.agent, facts, tasks);
-  AlgorithmSetup setup{config, facts, tasks.size(), tasks.size() * config.env.envs_per_task,
-                       facts.episode_length};
+  AlgorithmSetup setup{config, facts, tasks, tasks.size(),
+                       tasks.size() * config.env.envs_per_task, facts.episode_length};
   return MakeAlgorithm(setup);
 }
 
