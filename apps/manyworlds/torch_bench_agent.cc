@@ -1,4 +1,4 @@
-// manyworlds bench agent --algo sac|ppo|trpo: full SAC updates per second
+// manyworlds bench agent --algo sac|ppo|trpo|rl2|maml|pearl: full SAC updates per second
 // (agents::MeasureSacUpdates) on random batches, or on-policy optimisation
 // throughput (samples pushed through one PPO epoch: policy and value forward,
 // backward and Adam over minibatches; for TRPO one whole policy step with
@@ -15,6 +15,7 @@
 #include <chrono>
 
 #include "manyworlds/agents/maml/maml.h"
+#include "manyworlds/agents/pearl/pearl.h"
 #include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/sac.h"
@@ -249,7 +250,78 @@ void RunBenchMeta(const BenchAgentArgs& args) {
             << " trials of " << t_len << " steps; " << unit << "\n";
 }
 
+// PEARL's update on random per-task batches: --tasks tasks (the
+// meta-batch), each with --minibatch context and --batch RL transitions;
+// encoder 3 x 200 (oyster's), policy, twin Q and V --layers x --hidden.
+void RunBenchPearl(const BenchAgentArgs& args) {
+  agents::PearlConfig c;
+  c.hidden_dim = args.hidden;
+  c.num_layers = args.layers;
+  c.meta_batch = args.tasks;
+  c.batch_size = args.batch;
+  c.embedding_batch_size = args.minibatch;
+  c.seed = args.seed;
+  c.Validate();
+  agents::PearlLearner learner(c, args.obs_dim, args.action_dim);
+  if (args.torch_threads > 0 || args.blas_threads > 0) {
+    nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
+  }
+  torch::manual_seed(static_cast<uint64_t>(args.seed));
+  auto random_batch = [&](int64_t rows) {
+    agents::Batch b;
+    b.obs = torch::randn({rows, args.obs_dim});
+    b.action = torch::rand({rows, args.action_dim}) * 2 - 1;
+    b.reward = torch::randn({rows});
+    b.next_obs = torch::randn({rows, args.obs_dim});
+    b.done = torch::zeros({rows});
+    b.task_index = torch::zeros({rows}, torch::kInt64);
+    return b;
+  };
+  const agents::Batch context = random_batch(int64_t{args.tasks} * args.minibatch);
+  const agents::Batch rl = random_batch(int64_t{args.tasks} * args.batch);
+  using Clock = std::chrono::steady_clock;
+  for (int w = 0; w < 3; ++w) learner.Update(context, rl, args.tasks);  // warm-up
+  std::vector<double> rates;
+  for (int r = 0; r < args.repeats; ++r) {
+    const auto t0 = Clock::now();
+    for (int u = 0; u < args.updates; ++u) learner.Update(context, rl, args.tasks);
+    rates.push_back(args.updates / std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  std::vector<double> sorted = rates;
+  std::sort(sorted.begin(), sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  const nn::ThreadInfo threads = nn::CurrentThreads();
+  if (args.json) {
+    PrintJson({{"agent", "pearl"},
+               {"tasks", args.tasks},
+               {"batch", args.batch},
+               {"context", args.minibatch},
+               {"hidden", args.hidden},
+               {"layers", args.layers},
+               {"obs_dim", args.obs_dim},
+               {"action_dim", args.action_dim},
+               {"unit", "one update (encoder + KL, twin Q, V and target V, policy)"},
+               {"updates_per_s", median},
+               {"ms_per_update", 1000.0 / median},
+               {"updates", rates},
+               {"threads",
+                {{"torch_intra_op", threads.torch_intra_op},
+                 {"blas", threads.blas_threads},
+                 {"blas_core", threads.blas_core}}}});
+    return;
+  }
+  std::cout << "pearl: " << Fixed(median, 1) << " updates/s, " << Fixed(1000.0 / median, 2)
+            << " ms/update (median of " << rates.size() << " repeats of " << args.updates
+            << "); " << args.tasks << " tasks x (" << args.batch << " RL + " << args.minibatch
+            << " context) transitions, " << args.layers << " x " << args.hidden << ", obs "
+            << args.obs_dim << ", action " << args.action_dim << "\n";
+}
+
 void RunBenchAgent(const BenchAgentArgs& args) {
+  if (args.agent == "pearl") {
+    RunBenchPearl(args);
+    return;
+  }
   if (args.agent == "ppo" || args.agent == "trpo") {
     RunBenchOnPolicy(args);
     return;
@@ -260,8 +332,8 @@ void RunBenchAgent(const BenchAgentArgs& args) {
   }
   if (args.agent != "sac") {
     throw ConfigError("--algo: unknown algorithm '" + args.agent + "'" +
-                      SuggestNearest(args.agent, {"sac", "ppo", "trpo", "rl2", "maml"}) +
-                      "; allowed: sac, ppo, trpo, rl2, maml");
+                      SuggestNearest(args.agent, {"sac", "ppo", "trpo", "rl2", "maml", "pearl"}) +
+                      "; allowed: sac, ppo, trpo, rl2, maml, pearl");
   }
   agents::SacConfig config;
   config.batch_size = args.batch;
@@ -340,18 +412,20 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       "Agent updates per second: full SAC updates (critic, actor, temperature, targets) on\n"
       "random batches of the given sizes; the observation carries no task id, the\n"
       "learner conditions on the task index per --architecture");
-  cmd->add_option("--algo,--agent", args->agent, "algorithm to time: sac, ppo, trpo, rl2, maml")
+  cmd->add_option("--algo,--agent", args->agent, "algorithm to time: sac, ppo, trpo, rl2, maml, pearl")
       ->capture_default_str();
   cmd->add_option("--trial-length", args->trial_length,
                   "rl2, maml: steps per trial (maml: half before, half after adaptation)")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--batch", args->batch,
-                  "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials)")
+                  "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials; pearl: RL "
+                  "transitions per task)")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--minibatch", args->minibatch,
-                  "ppo: minibatch size of the epoch; trpo: of the value fit; rl2: trials")
+                  "ppo: minibatch size of the epoch; trpo: of the value fit; rl2: trials; pearl: "
+                  "context transitions per task")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--hidden", args->hidden, "hidden width of actor and critics")
@@ -366,7 +440,7 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
   cmd->add_option("--action-dim", args->action_dim, "action size")
       ->capture_default_str()
       ->check(AtLeastOne());
-  cmd->add_option("--tasks", args->tasks, "number of tasks (batches draw task indices uniformly)")
+  cmd->add_option("--tasks", args->tasks, "number of tasks (batches draw task indices uniformly; pearl: the meta-batch)")
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_option("--architecture", args->architecture,

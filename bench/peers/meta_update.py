@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The peers of `manyworlds bench agent --algo rl2|maml`: the same meta-RL
+"""The peers of `manyworlds bench agent --algo rl2|maml|pearl`: the same meta-RL
 updates in plain PyTorch (Python), the same sizes and work, on random trials.
 
 rl2: one PPO epoch of RL2 over N trials of T steps: the input [obs,
@@ -16,11 +16,21 @@ with create_graph, the post-adaptation surrogate, its gradient, 10
 conjugate-gradient iterations on Fisher-vector products through the inner
 step, and one line-search candidate (the C++ side runs with one too).
 
+pearl: one PEARL update (oyster's rlkit/torch/sac/sac.py _take_step) on
+--tasks tasks, each with --minibatch context and --batch RL transitions:
+encoder MLP 3 x 200 to (mu, softplus var) per transition, product of
+Gaussians, reparameterised z, KL to N(0, I); twin Q and V (--layers x
+--hidden, ReLU) on [obs, action, z] and [obs, z] with a target V; Q loss
+backpropagated into the encoder; V loss on the stepped critics' min Q minus
+log pi; Polyak target; tanh-Gaussian policy loss with mean/std regularisers;
+one Adam per network (torch.optim.Adam, as oyster).
+
 Reports updates per second (median of the repeats) as JSON, like the C++
 command.
 
     python3 bench/peers/meta_update.py --algo rl2 --batch 20 --trial-length 200 --minibatch 5 --hidden 256
     python3 bench/peers/meta_update.py --algo maml --batch 10 --trial-length 200 --hidden 64 --layers 2
+    python3 bench/peers/meta_update.py --algo pearl --tasks 16 --batch 256 --minibatch 64 --hidden 300 --layers 3
 """
 import argparse
 import json
@@ -222,12 +232,91 @@ def maml_peer(args):
     return update
 
 
+def mlp(n_in, n_out, hidden, layers):
+    mods, d = [], n_in
+    for _ in range(layers):
+        mods += [nn.Linear(d, hidden), nn.ReLU()]
+        d = hidden
+    mods.append(nn.Linear(d, n_out))
+    return nn.Sequential(*mods)
+
+
+def pearl_peer(args):
+    t, b, c, z_dim = args.tasks, args.batch, args.minibatch, 5
+    o_dim, a_dim = args.obs_dim, args.action_dim
+    encoder = mlp(o_dim + a_dim + 1, 2 * z_dim, 200, 3)
+    policy = mlp(o_dim + z_dim, 2 * a_dim, args.hidden, args.layers)
+    qf1 = mlp(o_dim + a_dim + z_dim, 1, args.hidden, args.layers)
+    qf2 = mlp(o_dim + a_dim + z_dim, 1, args.hidden, args.layers)
+    vf = mlp(o_dim + z_dim, 1, args.hidden, args.layers)
+    target_vf = mlp(o_dim + z_dim, 1, args.hidden, args.layers)
+    target_vf.load_state_dict(vf.state_dict())
+    opt = {name: torch.optim.Adam(net.parameters(), lr=3e-4)
+           for name, net in [("enc", encoder), ("pi", policy), ("q1", qf1), ("q2", qf2), ("v", vf)]}
+    context = torch.randn(t, c, o_dim + a_dim + 1)
+    obs = torch.randn(t * b, o_dim)
+    actions = torch.rand(t * b, a_dim) * 2 - 1
+    rewards = torch.randn(t * b, 1)
+    next_obs = torch.randn(t * b, o_dim)
+    terms = torch.zeros(t * b, 1)
+
+    def update():
+        params = encoder(context.view(t * c, -1)).view(t, c, -1)
+        mu = params[..., :z_dim]
+        var = torch.nn.functional.softplus(params[..., z_dim:]).clamp(min=1e-7)
+        z_var = 1.0 / torch.sum(1.0 / var, dim=1)
+        z_mean = z_var * torch.sum(mu / var, dim=1)
+        z = z_mean + z_var.sqrt() * torch.randn_like(z_mean)
+        kl = 0.5 * (z_var + z_mean ** 2 - 1 - z_var.log()).sum()
+        task_z = z.repeat_interleave(b, 0)
+        out = policy(torch.cat([obs, task_z.detach()], 1))
+        mean, log_std = out[:, :a_dim], out[:, a_dim:].clamp(-20, 2)
+        std = log_std.exp()
+        u = mean + std * torch.randn_like(mean)
+        new_actions = torch.tanh(u)
+        log_pi = (-0.5 * ((u - mean) / std) ** 2 - log_std - LOG_SQRT_2PI).sum(1, keepdim=True)
+        log_pi = log_pi - (2 * (math.log(2) - u - torch.nn.functional.softplus(-2 * u))).sum(1, keepdim=True)
+        q_in = torch.cat([obs, actions, task_z], 1)
+        q1, q2 = qf1(q_in), qf2(q_in)
+        v_pred = vf(torch.cat([obs, task_z.detach()], 1))
+        with torch.no_grad():
+            target_v = target_vf(torch.cat([next_obs, task_z], 1))
+        opt["enc"].zero_grad()
+        (0.1 * kl).backward(retain_graph=True)
+        opt["q1"].zero_grad()
+        opt["q2"].zero_grad()
+        q_target = rewards * 5.0 + (1.0 - terms) * 0.99 * target_v
+        qf_loss = torch.mean((q1 - q_target) ** 2) + torch.mean((q2 - q_target) ** 2)
+        qf_loss.backward()
+        opt["q1"].step()
+        opt["q2"].step()
+        opt["enc"].step()
+        new_in = torch.cat([obs, new_actions, task_z.detach()], 1)
+        min_q = torch.min(qf1(new_in), qf2(new_in))
+        vf_loss = torch.mean((v_pred - (min_q - log_pi).detach()) ** 2)
+        opt["v"].zero_grad()
+        vf_loss.backward()
+        opt["v"].step()
+        with torch.no_grad():
+            for tp, p in zip(target_vf.parameters(), vf.parameters()):
+                tp.mul_(0.995).add_(p, alpha=0.005)
+        policy_loss = (log_pi - min_q).mean() + 1e-3 * (mean ** 2).mean() + 1e-3 * (log_std ** 2).mean()
+        opt["pi"].zero_grad()
+        policy_loss.backward()
+        opt["pi"].step()
+
+    return update
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--algo", choices=["rl2", "maml"], required=True)
-    p.add_argument("--batch", type=int, default=20, help="trials (task instances)")
+    p.add_argument("--algo", choices=["rl2", "maml", "pearl"], required=True)
+    p.add_argument("--batch", type=int, default=20,
+                   help="trials (task instances); pearl: RL transitions per task")
+    p.add_argument("--tasks", type=int, default=16, help="pearl: the meta-batch")
     p.add_argument("--trial-length", type=int, default=200)
-    p.add_argument("--minibatch", type=int, default=5, help="rl2: trials per minibatch")
+    p.add_argument("--minibatch", type=int, default=5,
+                   help="rl2: trials per minibatch; pearl: context transitions per task")
     p.add_argument("--hidden", type=int, default=256)
     p.add_argument("--layers", type=int, default=2)
     p.add_argument("--obs-dim", type=int, default=39)
@@ -238,7 +327,7 @@ def main():
     args = p.parse_args()
     torch.set_num_threads(args.threads)
     torch.manual_seed(0)
-    update = rl2_peer(args) if args.algo == "rl2" else maml_peer(args)
+    update = {"rl2": rl2_peer, "maml": maml_peer, "pearl": pearl_peer}[args.algo](args)
     update()
     rates = []
     for _ in range(args.repeats):
@@ -247,6 +336,12 @@ def main():
             update()
         rates.append(args.updates / (time.perf_counter() - t0))
     median = statistics.median(rates)
+    if args.algo == "pearl":
+        print(json.dumps({"algo": "pearl", "tasks": args.tasks, "batch": args.batch,
+                          "context": args.minibatch, "hidden": args.hidden,
+                          "layers": args.layers, "updates_per_s": median, "updates": rates,
+                          "torch": torch.__version__, "threads": args.threads}))
+        return
     print(json.dumps({"algo": args.algo, "trials": args.batch, "trial_length": args.trial_length,
                       "hidden": args.hidden, "updates_per_s": median,
                       "samples_per_s": median * args.batch * args.trial_length,

@@ -193,6 +193,15 @@ TEST(OnPolicyResumeTest, MamlResumesExactly) {
                     "maml");
 }
 
+TEST(OnPolicyResumeTest, PearlResumesExactly) {
+  // per-task RL and encoder replay, the learner's and the replay's generators
+  ExpectExactResume("point_nav_pearl.yaml",
+                    {"experiment.steps_per_task=1600", "experiment.eval_every=400",
+                     "meta_test.trials_per_task=4", "agent.hidden_dim=32",
+                     "agent.encoder_hidden_dim=32", "agent.updates_per_iteration=10"},
+                    "pearl");
+}
+
 TEST(OnPolicyResumeTest, TrpoResumesExactly) {
   ExpectExactResume("point_nav_trpo.yaml",
                     {"experiment.steps_per_task=2400", "experiment.eval_every=400"}, "trpo");
@@ -226,7 +235,8 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
   EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
   // the registry lists every algorithm with its family
-  ASSERT_EQ(Algorithms().size(), 6u);
+  ASSERT_EQ(Algorithms().size(), 7u);
+  EXPECT_EQ(FindAlgorithm("pearl").family, AlgorithmFamily::kOffPolicy);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
   // every name has its own config and a builder (a short run per algorithm)
   for (const AlgorithmInfo& info : Algorithms()) {
