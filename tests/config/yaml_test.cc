@@ -80,6 +80,47 @@ TEST(YamlTest, HugeIntegersAreErrors) {
   EXPECT_THROW(ParseYaml("n: 123456789012345678901234567890"), ConfigError);
 }
 
+// What a hostile or broken file may hold fails as a ConfigError, never a
+// crash: self-referencing aliases, alias bombs, scalars of 100,000 digits,
+// nesting past 64 levels, bytes that are not UTF-8.
+TEST(YamlTest, HostileInputIsAConfigErrorNotACrash) {
+  auto error_of = [](const std::string& text) -> std::string {
+    try {
+      ParseYaml(text);
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(error_of("a: &x [1, *x]").find("deeper than 64"), std::string::npos);
+  std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
+  for (char c = 'b'; c <= 'j'; ++c) {
+    bomb += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" +
+            char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) +
+            ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + ", *" +
+            char(c - 1) + "]\n";
+  }
+  EXPECT_NE(error_of(bomb).find("alias bomb"), std::string::npos);
+  const std::string digits(100000, '1');
+  const std::string huge = error_of("n: " + digits);
+  EXPECT_NE(huge.find("out of range"), std::string::npos);
+  EXPECT_LT(huge.size(), 200u) << "the message must not repeat the whole scalar";
+  // a long scalar that is no number is a string, read without recursion
+  EXPECT_EQ(ParseYaml("s: " + std::string(100000, 'a') + "1.5")["s"].get<std::string>().size(),
+            100003u);
+  EXPECT_EQ(ParseYaml("f: 1" + std::string(100000, '0') + ".5")["f"].is_string(), true);
+  std::string deep = "x";
+  for (int i = 0; i < 70; ++i) deep = "[" + deep + "]";
+  EXPECT_NE(error_of("a: " + deep).find("deeper than 64"), std::string::npos);
+  EXPECT_EQ(ParseYaml("a: [[[[1]]]]")["a"][0][0][0][0], 1);
+  const std::string latin1 = error_of("name: caf\xe9\n");
+  EXPECT_NE(latin1.find("UTF-8"), std::string::npos) << latin1;
+  EXPECT_NE(error_of("name: \xed\xa0\x80\n").find("UTF-8"), std::string::npos);  // surrogate
+  EXPECT_NE(error_of("name: \xc0\xaf\n").find("UTF-8"), std::string::npos);      // overlong
+  EXPECT_NE(error_of("name: \xe2\x82").find("UTF-8"), std::string::npos);        // truncated
+  EXPECT_EQ(ParseYaml("name: caf\xc3\xa9 \xf0\x9f\x98\x80")["name"], "caf\xc3\xa9 \xf0\x9f\x98\x80");
+}
+
 TEST(YamlTest, MissingFileIsAConfigError) {
   try {
     LoadYamlFile("/nonexistent/dir/x.yaml");

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -139,6 +140,39 @@ TEST(ResumeTest, ResumedRunMatchesAnUninterruptedOne) {
     EXPECT_EQ(Rows(a / "eval.jsonl"), eval_a);
   }
   for (const auto& d : {a, b, c}) fs::remove_all(d);
+}
+
+TEST(ResumeTest, ARunDirectoryHasOneWriterAtATime) {
+  const fs::path dir = Scratch("locked");
+  auto message = [](const std::function<void()>& f) -> std::string {
+    try {
+      f();
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  {
+    Trainer first = Trainer::Create(Tiny(dir));
+    // a second process (here: a second open of the lock) is refused, naming the holder
+    const std::string create = message([&] { Trainer::Create(Tiny(dir)); });
+    EXPECT_NE(create.find("in use by another manyworlds process (pid " +
+                          std::to_string(getpid()) + ")"),
+              std::string::npos)
+        << create;
+    EXPECT_NE(message([&] { Trainer::Resume(dir); }).find("in use"), std::string::npos);
+  }
+  // released with the trainer: the run continues
+  EXPECT_NO_THROW(Trainer::Resume(dir));
+  fs::remove_all(dir);
+
+  // killed before config.yaml was written: not a run yet, so train may start it again
+  const fs::path half = Scratch("half_created");
+  fs::create_directories(half);
+  std::ofstream(half / "tasks.json") << "{}";
+  EXPECT_NO_THROW(Trainer::Create(Tiny(half)));
+  EXPECT_TRUE(fs::exists(half / "config.yaml"));
+  fs::remove_all(half);
 }
 
 TEST(ResumeTest, BadRunsFailClearlyAndLoseNothing) {

@@ -40,25 +40,87 @@ std::optional<bool> AsBool(const std::string& s) {
   return std::nullopt;
 }
 
+// Bounds on what a config may hold: std::regex recurses per character and
+// the conversion per nesting level, so unbounded input could exhaust the
+// stack; aliases are shared in yaml-cpp's tree but expanded here, so a
+// "billion laughs" document could exhaust memory.
+constexpr size_t kMaxNumberChars = 400;  // longer plain scalars are strings
+constexpr int kMaxDepth = 64;
+constexpr int64_t kMaxNodes = 1000000;
+
+// A scalar cut for an error message.
+std::string Shown(const std::string& s) {
+  return s.size() <= 40 ? s : s.substr(0, 20) + "..." + s.substr(s.size() - 10) + " (" +
+                                  std::to_string(s.size()) + " characters)";
+}
+
+bool AllIn(std::string_view s, bool (*digit)(char)) {
+  if (s.empty()) return false;
+  for (char c : s) {
+    if (!digit(c)) return false;
+  }
+  return true;
+}
+bool IsDec(char c) { return c >= '0' && c <= '9'; }
+bool IsHex(char c) { return IsDec(c) || (c >= 'a' && c <= 'f') || (c >= 'A' && c <= 'F'); }
+bool IsOct(char c) { return c >= '0' && c <= '7'; }
+
+// [-+]?[0-9]+ | 0x[0-9a-fA-F]+ | 0o[0-7]+, without a regular expression
+// (any length).
 bool LooksLikeInt(const std::string& s) {
-  static const std::regex kInt("[-+]?[0-9]+|0x[0-9a-fA-F]+|0o[0-7]+");
-  return std::regex_match(s, kInt);
+  std::string_view v = s;
+  if (v.starts_with("0x")) return AllIn(v.substr(2), IsHex);
+  if (v.starts_with("0o")) return AllIn(v.substr(2), IsOct);
+  if (!v.empty() && (v.front() == '-' || v.front() == '+')) v.remove_prefix(1);
+  return AllIn(v, IsDec);
+}
+
+// The first byte where `text` is not well-formed UTF-8, or npos.
+size_t InvalidUtf8(std::string_view text) {
+  size_t i = 0;
+  while (i < text.size()) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    size_t extra = 0;
+    uint32_t code = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    } else if ((c & 0xE0) == 0xC0) {
+      extra = 1;
+      code = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      extra = 2;
+      code = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      extra = 3;
+      code = c & 0x07;
+    } else {
+      return i;
+    }
+    if (i + extra >= text.size()) return i;  // truncated sequence
+    for (size_t k = 1; k <= extra; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      if ((next & 0xC0) != 0x80) return i;
+      code = (code << 6) | (next & 0x3F);
+    }
+    // overlong forms, surrogates and code points past U+10FFFF
+    static constexpr uint32_t kMin[] = {0, 0x80, 0x800, 0x10000};
+    if (code < kMin[extra] || (code >= 0xD800 && code <= 0xDFFF) || code > 0x10FFFF) return i;
+    i += extra + 1;
+  }
+  return std::string_view::npos;
 }
 
 std::optional<int64_t> AsInt(const std::string& s) {
-  static const std::regex kDecimal("[-+]?[0-9]+");
-  static const std::regex kHex("0x[0-9a-fA-F]+");
-  static const std::regex kOctal("0o[0-7]+");
+  if (!LooksLikeInt(s)) return std::nullopt;
   int base = 10;
   std::string_view digits = s;
-  if (std::regex_match(s, kHex)) {
+  if (digits.starts_with("0x")) {
     base = 16;
     digits.remove_prefix(2);
-  } else if (std::regex_match(s, kOctal)) {
+  } else if (digits.starts_with("0o")) {
     base = 8;
     digits.remove_prefix(2);
-  } else if (!std::regex_match(s, kDecimal)) {
-    return std::nullopt;
   }
   if (digits.front() == '+') digits.remove_prefix(1);
   int64_t value = 0;
@@ -71,6 +133,7 @@ std::optional<double> AsFloat(const std::string& s) {
   static const std::regex kFloat("[-+]?(\\.[0-9]+|[0-9]+(\\.[0-9]*)?)([eE][-+]?[0-9]+)?");
   static const std::regex kInf("[-+]?\\.(inf|Inf|INF)");
   static const std::regex kNan("\\.(nan|NaN|NAN)");
+  if (s.size() > kMaxNumberChars) return std::nullopt;
   if (std::regex_match(s, kInf)) {
     return s[0] == '-' ? -std::numeric_limits<double>::infinity()
                        : std::numeric_limits<double>::infinity();
@@ -104,7 +167,7 @@ nlohmann::json ConvertScalar(const YAML::Node& node, std::string_view source) {
     // silently turning them into strings.
     nlohmann::json value = ResolvePlain(text);
     if (value.is_string() && LooksLikeInt(text)) {
-      Fail(source, node.Mark(), "integer '" + text + "' is out of range");
+      Fail(source, node.Mark(), "integer '" + Shown(text) + "' is out of range");
     }
     return value;
   }
@@ -113,12 +176,25 @@ nlohmann::json ConvertScalar(const YAML::Node& node, std::string_view source) {
                   (tag == "tag:yaml.org,2002:float" && value.is_number()) ||
                   (tag == "tag:yaml.org,2002:bool" && value.is_boolean()) ||
                   (tag == "tag:yaml.org,2002:null" && value.is_null());
-  if (!ok) Fail(source, node.Mark(), "cannot read '" + text + "' as " + tag);
+  if (!ok) Fail(source, node.Mark(), "cannot read '" + Shown(text) + "' as " + tag);
   if (tag == "tag:yaml.org,2002:float") return value.get<double>();
   return value;
 }
 
-nlohmann::json Convert(const YAML::Node& node, std::string_view source) {
+// `nodes` counts every node converted so far (aliases count each time they
+// are expanded).
+nlohmann::json Convert(const YAML::Node& node, std::string_view source, int depth,
+                       int64_t& nodes) {
+  if (depth > kMaxDepth) {
+    Fail(source, node.Mark(),
+         "nested deeper than " + std::to_string(kMaxDepth) +
+             " levels (a config is a few levels deep; is an alias referring to itself?)");
+  }
+  if (++nodes > kMaxNodes) {
+    Fail(source, node.Mark(),
+         "expands to more than " + std::to_string(kMaxNodes) +
+             " values (aliases are expanded; is this an alias bomb?)");
+  }
   switch (node.Type()) {
     case YAML::NodeType::Undefined:
     case YAML::NodeType::Null:
@@ -127,7 +203,7 @@ nlohmann::json Convert(const YAML::Node& node, std::string_view source) {
       return ConvertScalar(node, source);
     case YAML::NodeType::Sequence: {
       nlohmann::json array = nlohmann::json::array();
-      for (const auto& item : node) array.push_back(Convert(item, source));
+      for (const auto& item : node) array.push_back(Convert(item, source, depth + 1, nodes));
       return array;
     }
     case YAML::NodeType::Map: {
@@ -135,8 +211,10 @@ nlohmann::json Convert(const YAML::Node& node, std::string_view source) {
       for (const auto& entry : node) {
         if (!entry.first.IsScalar()) Fail(source, entry.first.Mark(), "map keys must be scalars");
         const std::string& key = entry.first.Scalar();
-        if (object.contains(key)) Fail(source, entry.first.Mark(), "duplicate key '" + key + "'");
-        object[key] = Convert(entry.second, source);
+        if (object.contains(key)) {
+          Fail(source, entry.first.Mark(), "duplicate key '" + Shown(key) + "'");
+        }
+        object[key] = Convert(entry.second, source, depth + 1, nodes);
       }
       return object;
     }
@@ -146,6 +224,7 @@ nlohmann::json Convert(const YAML::Node& node, std::string_view source) {
 
 // Strings that can be written unquoted in block and flow context alike.
 bool IsSafePlain(const std::string& s) {
+  if (s.size() > kMaxNumberChars) return false;  // quoted: no regex over long strings
   static const std::regex kPlain("[A-Za-z0-9_/.][A-Za-z0-9_./+-]*( [A-Za-z0-9_./+-]+)*");
   if (!std::regex_match(s, kPlain) || LooksLikeInt(s)) return false;
   const nlohmann::json resolved = ResolvePlain(s);
@@ -226,13 +305,18 @@ void EmitSequence(const nlohmann::json& array, int indent, std::string& out) {
 }  // namespace
 
 nlohmann::json ParseYaml(std::string_view text, std::string_view source) {
+  if (const size_t bad = InvalidUtf8(text); bad != std::string_view::npos) {
+    throw ConfigError(std::string(source) + ": not valid UTF-8 (byte " + std::to_string(bad) +
+                      "); configs must be UTF-8 text");
+  }
   YAML::Node root;
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
     Fail(source, e.mark, e.msg);
   }
-  return Convert(root, source);
+  int64_t nodes = 0;
+  return Convert(root, source, 0, nodes);
 }
 
 nlohmann::json LoadYamlFile(const std::filesystem::path& path) {

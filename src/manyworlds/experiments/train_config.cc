@@ -201,6 +201,17 @@ int64_t TrainConfig::TotalBatchSize(int64_t num_tasks) const {
   return experiment.batch_size > 0 ? experiment.batch_size : agent.sac().batch_size * num_tasks;
 }
 
+// Upper bounds: every count the loops multiply stays far from int64
+// overflow (steps x envs x dims), and sizes that could only exhaust memory
+// are refused up front instead of killing the process.
+constexpr int64_t kMaxSteps = 1000000000000;  // 1e12 env steps per env
+constexpr int64_t kMaxEpisodes = 1000000;
+constexpr int64_t kMaxTasks = 100000;
+constexpr int64_t kMaxVariations = 1000000;
+constexpr int64_t kMaxEnvsPerTask = 4096;
+constexpr int64_t kMaxReplay = 1000000000;
+constexpr int64_t kMaxBatch = 10000000;
+
 void TrainConfig::Validate() const {
   // env
   if (env.id.empty() == env.tasks.empty()) {
@@ -212,13 +223,17 @@ void TrainConfig::Validate() const {
   for (const auto& id : env.tasks) {
     if (id.empty()) Bad("env.tasks", "must not hold an empty id");
   }
-  if (env.num_tasks < 0) Bad("env.num_tasks", "must be >= 0, got " + std::to_string(env.num_tasks));
+  if (env.num_tasks < 0 || env.num_tasks > kMaxTasks) {
+    Bad("env.num_tasks", "must be in [0, " + std::to_string(kMaxTasks) + "], got " +
+                             std::to_string(env.num_tasks));
+  }
   if (!env.tasks.empty() && env.num_tasks != 0) {
     Bad("env.num_tasks", "applies to 'env.id' only; with 'env.tasks' each id is one task");
   }
-  if (env.variations_per_task < 0) {
-    Bad("env.variations_per_task",
-        "must be >= 0 (0 = all), got " + std::to_string(env.variations_per_task));
+  if (env.variations_per_task < 0 || env.variations_per_task > kMaxVariations) {
+    Bad("env.variations_per_task", "must be in [0, " + std::to_string(kMaxVariations) +
+                                       "] (0 = all), got " +
+                                       std::to_string(env.variations_per_task));
   }
   if (!env.task_states.is_array()) Bad("env.task_states", "must be a list of task states");
   for (const auto& s : env.task_states) {
@@ -228,8 +243,9 @@ void TrainConfig::Validate() const {
     }
   }
   if (!env.options.is_object()) Bad("env.options", "must be a mapping of registry options");
-  if (env.envs_per_task < 1) {
-    Bad("env.envs_per_task", "must be >= 1, got " + std::to_string(env.envs_per_task));
+  if (env.envs_per_task < 1 || env.envs_per_task > kMaxEnvsPerTask) {
+    Bad("env.envs_per_task", "must be in [1, " + std::to_string(kMaxEnvsPerTask) + "], got " +
+                                 std::to_string(env.envs_per_task));
   }
   if (eval_env) {
     if (eval_env->id.empty() == eval_env->tasks.empty()) {
@@ -245,7 +261,10 @@ void TrainConfig::Validate() const {
   // agent
   ValidateAgentConfig(agent);
   // replay
-  if (replay.capacity < 1) Bad("replay.capacity", "must be >= 1, got " + std::to_string(replay.capacity));
+  if (replay.capacity < 1 || replay.capacity > kMaxReplay) {
+    Bad("replay.capacity", "must be in [1, " + std::to_string(kMaxReplay) + "], got " +
+                               std::to_string(replay.capacity));
+  }
   if (replay.sampling != "uniform" && replay.sampling != "balanced") {
     Bad("replay.sampling", "must be 'uniform' or 'balanced', got '" + replay.sampling + "'");
   }
@@ -270,38 +289,45 @@ void TrainConfig::Validate() const {
   }
   // experiment
   const auto& e = experiment;
-  if (e.steps_per_task < 1) {
-    Bad("experiment.steps_per_task", "must be >= 1, got " + std::to_string(e.steps_per_task));
+  if (e.steps_per_task < 1 || e.steps_per_task > kMaxSteps) {
+    Bad("experiment.steps_per_task", "must be in [1, " + std::to_string(kMaxSteps) + "], got " +
+                                         std::to_string(e.steps_per_task));
   }
-  if (e.warmup_steps < 0) {
-    Bad("experiment.warmup_steps", "must be >= 0, got " + std::to_string(e.warmup_steps));
+  if (e.warmup_steps < 0 || e.warmup_steps > kMaxSteps) {
+    Bad("experiment.warmup_steps", "must be in [0, " + std::to_string(kMaxSteps) + "], got " +
+                                       std::to_string(e.warmup_steps));
   }
   if (!(std::isfinite(e.updates_per_step) && e.updates_per_step >= 0 &&
         e.updates_per_step <= 1000)) {
     Bad("experiment.updates_per_step",
         "must be in [0, 1000], got " + nlohmann::json(e.updates_per_step).dump());
   }
-  if (e.batch_size < 0) {
-    Bad("experiment.batch_size",
-        "must be >= 0 (0 = agent.batch_size x num_tasks), got " + std::to_string(e.batch_size));
+  if (e.batch_size < 0 || e.batch_size > kMaxBatch) {
+    Bad("experiment.batch_size", "must be in [0, " + std::to_string(kMaxBatch) +
+                                     "] (0 = agent.batch_size x num_tasks), got " +
+                                     std::to_string(e.batch_size));
   }
-  if (e.eval_every < 0) {
-    Bad("experiment.eval_every", "must be >= 0 (0 = only at the end), got " +
+  if (e.eval_every < 0 || e.eval_every > kMaxSteps) {
+    Bad("experiment.eval_every", "must be in [0, " + std::to_string(kMaxSteps) +
+                                     "] (0 = only at the end), got " +
                                      std::to_string(e.eval_every));
   }
-  if (e.eval_episodes < 1) {
-    Bad("experiment.eval_episodes", "must be >= 1, got " + std::to_string(e.eval_episodes));
+  if (e.eval_episodes < 1 || e.eval_episodes > kMaxEpisodes) {
+    Bad("experiment.eval_episodes", "must be in [1, " + std::to_string(kMaxEpisodes) +
+                                        "], got " + std::to_string(e.eval_episodes));
   }
   if (e.num_threads < 1 || e.num_threads > 256) {
     Bad("experiment.num_threads", "must be in [1, 256], got " + std::to_string(e.num_threads));
   }
-  if (e.checkpoint_every < 0) {
-    Bad("experiment.checkpoint_every",
-        "must be >= 0 (0 = only at the end), got " + std::to_string(e.checkpoint_every));
+  if (e.checkpoint_every < 0 || e.checkpoint_every > kMaxSteps) {
+    Bad("experiment.checkpoint_every", "must be in [0, " + std::to_string(kMaxSteps) +
+                                           "] (0 = only at the end), got " +
+                                           std::to_string(e.checkpoint_every));
   }
-  if (e.keep_checkpoints < 0) {
-    Bad("experiment.keep_checkpoints",
-        "must be >= 0 (0 = keep all), got " + std::to_string(e.keep_checkpoints));
+  if (e.keep_checkpoints < 0 || e.keep_checkpoints > kMaxEpisodes) {
+    Bad("experiment.keep_checkpoints", "must be in [0, " + std::to_string(kMaxEpisodes) +
+                                           "] (0 = keep all), got " +
+                                           std::to_string(e.keep_checkpoints));
   }
   if (e.run_dir.empty()) Bad("experiment.run_dir", "must not be empty");
 }

@@ -24,6 +24,7 @@
 #include "manyworlds/experiments/algorithms.h"
 #include "manyworlds/experiments/meta_test_protocol.h"
 #include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/run_lock.h"
 #include "manyworlds/experiments/run_log.h"
 
 namespace manyworlds::experiments {
@@ -225,6 +226,7 @@ EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, in
 }
 
 struct Trainer::Impl {
+  std::unique_ptr<RunLock> lock;  // held while this trainer may write the run
   RunPaths paths;
   TrainConfig config;
   TaskSet tasks;
@@ -496,6 +498,15 @@ Trainer Trainer::Create(const TrainConfig& config) {
   config.Validate();
   const fs::path run_dir = config.experiment.run_dir;
   const RunPaths paths{run_dir};
+  {
+    std::error_code ec;
+    fs::create_directories(run_dir, ec);
+    if (ec) {
+      throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
+    }
+  }
+  // locked before the check, so two processes started together cannot both pass it
+  auto lock = std::make_unique<RunLock>(run_dir);
   if (fs::exists(paths.config()) || fs::exists(paths.checkpoints())) {
     throw ConfigError("run directory '" + run_dir.string() +
                       "' already holds a run; continue it with `manyworlds train --resume " +
@@ -511,17 +522,15 @@ Trainer Trainer::Create(const TrainConfig& config) {
     }
   }
   auto impl = std::make_unique<Impl>();
+  impl->lock = std::move(lock);
   impl->Setup(config, std::move(tasks), std::move(held_out), run_dir);
-  std::error_code ec;
-  fs::create_directories(run_dir, ec);
-  if (ec) {
-    throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
-  }
-  AtomicWriteFile(paths.config(), DumpYaml(config.ToJson()));
+  // config.yaml last: a directory is a run once it has one, so a kill
+  // before it leaves a directory that `train` may simply start again
   if (impl->eval_tasks) {
     AtomicWriteFile(paths.eval_tasks(), impl->eval_tasks->ToJson().dump(2) + "\n");
   }
   AtomicWriteFile(paths.tasks(), impl->tasks.ToJson().dump(2) + "\n");
+  AtomicWriteFile(paths.config(), DumpYaml(config.ToJson()));
   impl->metrics_log = std::make_unique<RunLog>(run_dir, "metrics");
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
   impl->metrics_log->TruncateAfter(0);
@@ -534,8 +543,11 @@ Trainer Trainer::Create(const TrainConfig& config) {
 }
 
 Trainer Trainer::Resume(const fs::path& run_dir) {
+  std::unique_ptr<RunLock> lock;
+  if (fs::is_directory(run_dir)) lock = std::make_unique<RunLock>(run_dir);
   RunInfo info = RunInfo::Read(run_dir);
   auto impl = std::make_unique<Impl>();
+  impl->lock = std::move(lock);
   impl->Setup(info.config, std::move(info.tasks), std::move(info.eval_tasks), run_dir);
   std::optional<fs::path> checkpoint;
   try {

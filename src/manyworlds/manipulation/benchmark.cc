@@ -293,7 +293,12 @@ void RegisterBenchmarks(Registry& registry) {
 
   auto make = [](BenchmarkConfig config, const Options& options) -> std::unique_ptr<Env> {
     config.seed = static_cast<uint64_t>(options.Int("benchmark_seed"));
-    config.num_variations = static_cast<int>(options.Int("num_variations"));
+    const int64_t variations = options.Int("num_variations");
+    if (variations < 1 || variations > 100000) {
+      throw ConfigError("benchmark '" + config.id + "': option 'num_variations' must be in [1, " +
+                        "100000], got " + std::to_string(variations));
+    }
+    config.num_variations = static_cast<int>(variations);
     auto bench = std::make_unique<Benchmark>(std::move(config));
     if (bench->config().meta || !options.Bool("task_id_in_obs")) return bench;
     return std::make_unique<AppendTaskOneHot>(std::move(bench));
