@@ -30,13 +30,14 @@ nlohmann::json ParseEnvOptions(const std::vector<std::string>& pairs) {
   return options;
 }
 
-CLI::Validator AtLeastOne() {
+CLI::Validator AtLeastOne(int64_t max) {
   return CLI::Validator(
-      [](std::string& input) -> std::string {
+      [max](std::string& input) -> std::string {
         int64_t value = 0;
         const auto [end, ec] = std::from_chars(input.data(), input.data() + input.size(), value);
-        if (ec != std::errc() || end != input.data() + input.size() || value < 1) {
-          return "must be an integer >= 1, got " + input;
+        if (ec != std::errc() || end != input.data() + input.size() || value < 1 || value > max) {
+          const std::string shown = input.size() <= 30 ? input : input.substr(0, 20) + "...";
+          return "must be an integer in [1, " + std::to_string(max) + "], got " + shown;
         }
         return "";
       },

@@ -24,8 +24,9 @@ namespace manyworlds::cli {
 // repeated key.
 nlohmann::json ParseEnvOptions(const std::vector<std::string>& pairs);
 
-// Accepts integers >= 1 ("--episodes: must be an integer >= 1, got 0").
-CLI::Validator AtLeastOne();
+// Accepts integers in [1, max] ("--episodes: must be an integer in [1, 1000000], got 0");
+// the bound keeps counts far from overflow and sizes within memory.
+CLI::Validator AtLeastOne(int64_t max = 1000000000);
 // Accepts integers in [0, 2^64) (CLI11 would wrap "-1" to 2^64 - 1).
 CLI::Validator Unsigned();
 

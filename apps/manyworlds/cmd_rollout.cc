@@ -129,7 +129,7 @@ void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
       ->capture_default_str();
   cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1); for a benchmark, the first N variations of each task")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(1000000));
   cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")
       ->capture_default_str()
       ->check(Unsigned());

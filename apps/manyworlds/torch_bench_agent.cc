@@ -417,32 +417,32 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
   cmd->add_option("--trial-length", args->trial_length,
                   "rl2, maml: steps per trial (maml: half before, half after adaptation)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(100000));
   cmd->add_option("--batch", args->batch,
                   "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials; pearl: RL "
                   "transitions per task)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(1000000));
   cmd->add_option("--minibatch", args->minibatch,
                   "ppo: minibatch size of the epoch; trpo: of the value fit; rl2: trials; pearl: "
                   "context transitions per task")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(1000000));
   cmd->add_option("--hidden", args->hidden, "hidden width of actor and critics")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(16384));
   cmd->add_option("--layers", args->layers, "hidden layers of actor and critics")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(64));
   cmd->add_option("--obs-dim", args->obs_dim, "observation size (without any task id)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(100000));
   cmd->add_option("--action-dim", args->action_dim, "action size")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(4096));
   cmd->add_option("--tasks", args->tasks, "number of tasks (batches draw task indices uniformly; pearl: the meta-batch)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(10000));
   cmd->add_option("--architecture", args->architecture,
                   "task conditioning: " + Join(agents::SacArchitectures()))
       ->capture_default_str();
@@ -451,10 +451,10 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
   cmd->add_flag("--disentangled-alpha", args->disentangled_alpha, "one temperature per task");
   cmd->add_option("--updates", args->updates, "timed updates per repeat (after 3 warm-up updates)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(1000000));
   cmd->add_option("--repeats", args->repeats, "timed repeats (the median is reported)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(10000));
   cmd->add_option("--shards", args->shards,
                   "data-parallel shards of each update (SacConfig update_shards)")
       ->capture_default_str()

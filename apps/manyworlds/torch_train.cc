@@ -366,7 +366,7 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("run_dir", args->run_dir, "the run directory")->required();
   cmd->add_option("--episodes", args->episodes,
                   "episodes per task (default: the run's experiment.eval_episodes)")
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(1000000));
   cmd->add_option("--checkpoint", args->checkpoint,
                   "'latest', a checkpoint name (step_...) or a checkpoint directory");
   cmd->add_option("--protocol", args->protocol,

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/run_lock.h"
 #include "manyworlds/experiments/run_log.h"
 #include "manyworlds/experiments/trainer.h"
 
@@ -153,13 +154,19 @@ TEST(ResumeTest, ARunDirectoryHasOneWriterAtATime) {
     return "";
   };
   {
-    Trainer first = Trainer::Create(Tiny(dir));
-    // a second process (here: a second open of the lock) is refused, naming the holder
+    // another process still creating the run (here: a second open of the
+    // lock) holds it: this one is refused and told who holds it
+    fs::create_directories(dir);
+    const RunLock creating(dir);
     const std::string create = message([&] { Trainer::Create(Tiny(dir)); });
     EXPECT_NE(create.find("in use by another manyworlds process (pid " +
                           std::to_string(getpid()) + ")"),
               std::string::npos)
         << create;
+    EXPECT_FALSE(fs::exists(dir / "config.yaml"));
+  }
+  {
+    Trainer first = Trainer::Create(Tiny(dir));
     EXPECT_NE(message([&] { Trainer::Resume(dir); }).find("in use"), std::string::npos);
   }
   // released with the trainer: the run continues

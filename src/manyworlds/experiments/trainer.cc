@@ -498,20 +498,14 @@ Trainer Trainer::Create(const TrainConfig& config) {
   config.Validate();
   const fs::path run_dir = config.experiment.run_dir;
   const RunPaths paths{run_dir};
-  {
-    std::error_code ec;
-    fs::create_directories(run_dir, ec);
-    if (ec) {
-      throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
+  auto refuse_existing = [&] {
+    if (fs::exists(paths.config()) || fs::exists(paths.checkpoints())) {
+      throw ConfigError("run directory '" + run_dir.string() +
+                        "' already holds a run; continue it with `manyworlds train --resume " +
+                        run_dir.string() + "` or choose another experiment.run_dir");
     }
-  }
-  // locked before the check, so two processes started together cannot both pass it
-  auto lock = std::make_unique<RunLock>(run_dir);
-  if (fs::exists(paths.config()) || fs::exists(paths.checkpoints())) {
-    throw ConfigError("run directory '" + run_dir.string() +
-                      "' already holds a run; continue it with `manyworlds train --resume " +
-                      run_dir.string() + "` or choose another experiment.run_dir");
-  }
+  };
+  refuse_existing();
   TaskSet tasks = ResolveTasks(config.env, DefaultRegistry());
   std::optional<TaskSet> held_out;
   if (config.eval_env) {
@@ -522,8 +516,17 @@ Trainer Trainer::Create(const TrainConfig& config) {
     }
   }
   auto impl = std::make_unique<Impl>();
-  impl->lock = std::move(lock);
   impl->Setup(config, std::move(tasks), std::move(held_out), run_dir);
+  // nothing is created before the config has proved runnable
+  std::error_code ec;
+  fs::create_directories(run_dir, ec);
+  if (ec) {
+    throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
+  }
+  // checked again under the lock: of two processes started together, one
+  // writes the run and the other is refused
+  impl->lock = std::make_unique<RunLock>(run_dir);
+  refuse_existing();
   // config.yaml last: a directory is a run once it has one, so a kill
   // before it leaves a directory that `train` may simply start again
   if (impl->eval_tasks) {
