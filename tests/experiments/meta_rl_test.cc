@@ -36,6 +36,16 @@ std::string SourceDir() {
   return dir != nullptr ? dir : ".";
 }
 
+// Trains configs/FILE into `dir` with the overrides; the summary.
+TrainSummary TrainFromConfig(const std::string& file, const fs::path& dir,
+                             std::vector<std::string> overrides = {}) {
+  overrides.push_back("experiment.run_dir=" + dir.string());
+  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / file, overrides);
+  c.Validate();
+  Trainer trainer = Trainer::Create(c);
+  return trainer.Run();
+}
+
 // Pulls arm 0 until adapted, then arm 1; counts its calls.
 class TwoPhaseActor : public agents::Actor {
  public:
@@ -127,12 +137,7 @@ TEST(MetaRlLearningTest, Rl2OnBanditsBeatsRandomAndMatchesUcb1) {
 TEST(MetaRlLearningTest, MamlImprovesPointNavigationAfterOneInnerStep) {
   // goals hidden from the policy; meta-tested on 20 held-out goals: 5 sampled
   // episodes, one inner step, 2 sampled episodes
-  const fs::path dir = Scratch("maml_nav");
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / "point_nav_maml.yaml",
-                                    {"experiment.run_dir=" + dir.string()});
-  c.Validate();
-  Trainer trainer = Trainer::Create(c);
-  const TrainSummary summary = trainer.Run();
+  const TrainSummary summary = TrainFromConfig("point_nav_maml.yaml", Scratch("maml_nav"));
   ASSERT_TRUE(summary.finished);
   ASSERT_TRUE(summary.final_meta_test.has_value());
   const nlohmann::json& m = *summary.final_meta_test;
@@ -145,12 +150,7 @@ TEST(MetaRlLearningTest, MamlImprovesPointNavigationAfterOneInnerStep) {
 
 TEST(MetaRlLearningTest, MamlPpoImprovesPointNavigationAfterOneInnerStep) {
   const fs::path dir = Scratch("maml_ppo_nav");
-  TrainConfig c = TrainConfig::Load(
-      fs::path(SourceDir()) / "configs" / "point_nav_maml_ppo.yaml",
-      {"experiment.run_dir=" + dir.string()});
-  c.Validate();
-  Trainer trainer = Trainer::Create(c);
-  const TrainSummary summary = trainer.Run();
+  const TrainSummary summary = TrainFromConfig("point_nav_maml_ppo.yaml", dir);
   ASSERT_TRUE(summary.finished);
   const nlohmann::json& m = *summary.final_meta_test;
   // measured: -38.2 before adaptation, -26.9 after
@@ -163,11 +163,7 @@ TEST(MetaRlLearningTest, PearlPosteriorFindsHiddenPointNavigationGoals) {
   // episodes with z from the prior, then z from the posterior of their
   // transitions for 2 evaluation episodes
   const fs::path dir = Scratch("pearl_nav");
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / "point_nav_pearl.yaml",
-                                    {"experiment.run_dir=" + dir.string()});
-  c.Validate();
-  Trainer trainer = Trainer::Create(c);
-  const TrainSummary summary = trainer.Run();
+  const TrainSummary summary = TrainFromConfig("point_nav_pearl.yaml", dir);
   ASSERT_TRUE(summary.finished);
   ASSERT_TRUE(summary.final_meta_test.has_value());
   const nlohmann::json& m = *summary.final_meta_test;

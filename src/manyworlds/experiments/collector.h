@@ -37,6 +37,11 @@ struct EpisodeTotals {
     success_sum += r.success ? 1.0 : 0.0;
     ++episodes;
   }
+  void Add(const EpisodeTotals& other) {
+    return_sum += other.return_sum;
+    success_sum += other.success_sum;
+    episodes += other.episodes;
+  }
   // train_episodes, train_return and train_success (null where undefined).
   void WriteTo(nlohmann::json& row, bool has_success) const {
     row["train_episodes"] = episodes;

@@ -104,7 +104,7 @@ class PearlAlgorithm : public Algorithm {
     const int64_t rounds = rounds_per_iteration();
     const bool warming = step < config_.experiment.warmup_steps;
     double t_act = 0.0, t_env = 0.0, t_update = 0.0;
-    EpisodeTotals all, prior_totals, posterior_totals;
+    EpisodeTotals prior_totals, posterior_totals;
     std::vector<int64_t> keys(num_envs_);
     for (int64_t k = 0; k < rounds; ++k) {
       collector.BeginRound(config_.experiment.seed, first_round + k, rounds);
@@ -133,14 +133,7 @@ class PearlAlgorithm : public Algorithm {
                 .contiguous();
         std::copy(act.data_ptr<float>(), act.data_ptr<float>() + act.numel(), unit_.begin());
         const auto t1 = Clock::now();
-        EpisodeTotals step_totals;
-        collector.Step(unit_, step_totals);
-        all.return_sum += step_totals.return_sum;
-        all.success_sum += step_totals.success_sum;
-        all.episodes += step_totals.episodes;
-        phase_totals.return_sum += step_totals.return_sum;
-        phase_totals.success_sum += step_totals.success_sum;
-        phase_totals.episodes += step_totals.episodes;
+        collector.Step(unit_, phase_totals);
         BatchedExecutor& exec = collector.executor();
         const auto next = exec.env_obs();
         const auto final_obs = exec.final_env_obs();
@@ -175,7 +168,8 @@ class PearlAlgorithm : public Algorithm {
       for (int64_t u = 0; u < c.updates_per_iteration; ++u) {
         const torch::Tensor pick = torch::randint(static_cast<int64_t>(ready.size()),
                                                   {c.meta_batch}, replay_generator_, torch::kInt64);
-        for (int64_t j = 0; j < c.meta_batch; ++j) batch_keys[j] = ready[pick[j].item<int64_t>()];
+        const int64_t* picked = pick.data_ptr<int64_t>();
+        for (int64_t j = 0; j < c.meta_batch; ++j) batch_keys[j] = ready[picked[j]];
         const agents::Batch& context =
             encoder_replay_->SampleTasks(batch_keys, c.embedding_batch_size, replay_generator_);
         const agents::Batch& rl = replay_->SampleTasks(batch_keys, c.batch_size, replay_generator_);
@@ -190,6 +184,8 @@ class PearlAlgorithm : public Algorithm {
         {"time_update_s", t_update},
         {"buffer_size", replay_->size()},
     };
+    EpisodeTotals all = prior_totals;
+    all.Add(posterior_totals);
     all.WriteTo(row, has_success);
     auto mean_return = [](const EpisodeTotals& t) {
       return t.episodes > 0 ? nlohmann::json(t.return_sum / t.episodes) : nlohmann::json();
