@@ -23,12 +23,12 @@ std::vector<std::vector<double>> UniformTasks(int64_t count, int64_t arms, uint6
 
 TEST(BanditBaselinesTest, RandomMatchesItsExpectationAndTheOthersBeatIt) {
   const auto tasks = UniformTasks(2000, 5, 3);
-  const BanditBaselineResult random = RunBanditBaseline("random", tasks, 10, 5, 1);
+  const BaselineResult random = RunBanditBaseline("random", tasks, 10, 5, 1);
   // E = 10 x mean arm probability = 5.0; 10,000 trials: standard error ~0.02
   EXPECT_NEAR(random.mean_trial_return, 5.0, 0.1);
   EXPECT_LT(random.standard_error, 0.05);
   for (const char* name : {"greedy", "ucb1", "thompson"}) {
-    const BanditBaselineResult r = RunBanditBaseline(name, tasks, 10, 5, 1);
+    const BaselineResult r = RunBanditBaseline(name, tasks, 10, 5, 1);
     EXPECT_GT(r.mean_trial_return, random.mean_trial_return + 0.4) << name;
     EXPECT_LT(r.mean_trial_return, 10.0 * 5.0 / 6.0) << name;  // E[max of 5 U(0, 1)] per pull
   }

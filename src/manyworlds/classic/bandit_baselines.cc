@@ -79,7 +79,7 @@ const std::vector<std::string>& BanditBaselineNames() {
   return names;
 }
 
-BanditBaselineResult RunBanditBaseline(const std::string& name,
+BaselineResult RunBanditBaseline(const std::string& name,
                                        const std::vector<std::vector<double>>& tasks,
                                        int64_t pulls, int64_t trials_per_task, uint64_t seed) {
   const Strategy strategy = Find(name);
@@ -116,7 +116,7 @@ BanditBaselineResult RunBanditBaseline(const std::string& name,
       ++count;
     }
   }
-  BanditBaselineResult result;
+  BaselineResult result;
   result.name = name;
   result.mean_trial_return = sum / count;
   const double var = std::max(0.0, sum_sq / count - result.mean_trial_return * result.mean_trial_return);

@@ -24,7 +24,8 @@ namespace manyworlds::classic {
 // The strategies' names, in the order above.
 const std::vector<std::string>& BanditBaselineNames();
 
-struct BanditBaselineResult {
+// A strategy's score over all trials of all tasks.
+struct BaselineResult {
   std::string name;
   double mean_trial_return = 0.0;  // mean total reward of a trial
   double standard_error = 0.0;
@@ -33,7 +34,7 @@ struct BanditBaselineResult {
 // Runs `name` for trials_per_task trials of `pulls` pulls on every task (one
 // vector of arm probabilities each, all the same size >= 2). Throws
 // ConfigError on an unknown name, bad sizes or probabilities outside [0, 1].
-BanditBaselineResult RunBanditBaseline(const std::string& name,
+BaselineResult RunBanditBaseline(const std::string& name,
                                        const std::vector<std::vector<double>>& tasks,
                                        int64_t pulls, int64_t trials_per_task, uint64_t seed);
 
