@@ -130,5 +130,50 @@ TEST(MamlTest, CheckpointsRoundTripAndBadConfigsNameTheField) {
   }
 }
 
+TEST(MamlTest, ValueNetworkBaselineFitsEachTaskFromItsInitialWeights) {
+  MamlConfig c = Small();
+  c.baseline = "value_network";
+  c.center_advantages = false;
+  c.gae_lambda = 1.0;  // advantages = returns - values
+  c.discount = 0.9;
+  c.value_fit_steps = 200;
+  MamlLearner maml(c, Spaces());
+  // four episodes of 10 steps whose rewards are a smooth function of obs
+  auto episodes = [](uint64_t seed, torch::Tensor* returns) {
+    torch::manual_seed(seed);
+    const torch::Tensor obs = torch::rand({40, 2}) * 2 - 1;
+    const torch::Tensor rewards = obs.select(1, 0) + 0.5 * obs.select(1, 1).pow(2);
+    torch::Tensor ended = torch::zeros({40});
+    for (int k = 9; k < 40; k += 10) ended[k] = 1.0f;
+    torch::Tensor g = torch::zeros({40});
+    double next = 0.0;
+    for (int k = 39; k >= 0; --k) {
+      if (ended[k].item<float>() > 0.5f) next = 0.0;
+      next = rewards[k].item<double>() + 0.9 * next;
+      g[k] = next;
+    }
+    *returns = g;
+    return std::make_tuple(obs, rewards, ended);
+  };
+  torch::Tensor returns_a, returns_b;
+  const auto [obs_a, rewards_a, ended_a] = episodes(1, &returns_a);
+  const auto [obs_b, rewards_b, ended_b] = episodes(2, &returns_b);
+  const torch::Tensor first = maml.Advantages(obs_a, rewards_a, ended_a, torch::ones({40}));
+  // the fitted values explain most of the returns' variance
+  const double residual = first.pow(2).mean().item<double>();
+  const double variance = returns_a.var(false).item<double>();
+  EXPECT_LT(residual, 0.5 * variance);
+  // another task's fit in between changes nothing: every fit starts afresh
+  const torch::Tensor other = maml.Advantages(obs_b, rewards_b, ended_b, torch::ones({40}));
+  EXPECT_FALSE(torch::allclose(other, first));
+  EXPECT_TRUE(torch::equal(maml.Advantages(obs_a, rewards_a, ended_a, torch::ones({40})), first));
+  // the policy's initialisation is that of a linear-baseline learner
+  MamlLearner linear(Small(), Spaces());
+  EXPECT_TRUE(torch::equal(linear.policy()->flat(), maml.policy()->flat()));
+  MamlConfig bad = Small();
+  bad.baseline = "critic";
+  EXPECT_THROW(bad.Validate(), ConfigError);
+}
+
 }  // namespace
 }  // namespace manyworlds::agents

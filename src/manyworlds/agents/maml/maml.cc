@@ -22,6 +22,7 @@ const MamlConfig& Validated(const MamlConfig& c) {
 }
 
 constexpr int64_t kCheckpointCode = 0x6d616d6c;  // "maml"
+constexpr uint64_t kValueSeedSalt = 0x76616c7565;  // "value"
 
 std::vector<torch::Tensor> Grad(const torch::Tensor& y, at::ArrayRef<torch::Tensor> params,
                                 bool create_graph) {
@@ -58,6 +59,15 @@ void MamlConfig::Validate() const {
   RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
   RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
   RequireField(outer == "trpo" || outer == "ppo", "outer", "one of trpo, ppo", outer);
+  RequireField(baseline == "linear" || baseline == "value_network", "baseline",
+               "one of linear, value_network", baseline);
+  RequireField(value_hidden_dim > 0 && value_hidden_dim <= 65536, "value_hidden_dim",
+               "in [1, 65536]", value_hidden_dim);
+  RequireField(value_num_layers >= 0 && value_num_layers <= 64, "value_num_layers", "in [0, 64]",
+               value_num_layers);
+  RequireField(FinitePositive(value_lr), "value_lr", "finite and > 0", value_lr);
+  RequireField(value_fit_steps >= 1 && value_fit_steps <= 100000, "value_fit_steps",
+               "in [1, 100000]", value_fit_steps);
   RequireField(FinitePositive(outer_lr), "outer_lr", "finite and > 0", outer_lr);
   RequireField(outer_epochs >= 1 && outer_epochs <= 10000, "outer_epochs", "in [1, 10000]",
                outer_epochs);
@@ -92,11 +102,58 @@ MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
   p.max_std = config.max_std;
   policy_ = nn::StochasticPolicy(p, generator_);
   outer_optimizer_ = nn::FlatAdam(policy_->num_params(), nn::AdamOptions{.lr = config.outer_lr});
+  if (config.baseline == "value_network") {
+    // its own generator, so the policy's draws are those of a linear-baseline run
+    at::Generator value_generator = rl::MakeGenerator(config.seed ^ kValueSeedSalt);
+    nn::MlpOptions v;
+    v.input_dim = spaces.obs_dim + 1;
+    v.output_dim = 1;
+    v.hidden_dim = config.value_hidden_dim;
+    v.num_layers = config.value_num_layers;
+    v.activation = nn::Activation::kTanh;
+    value_net_ = nn::Mlp(v, value_generator);
+    value_init_ = value_net_->flat().detach().clone();
+  }
+}
+
+torch::Tensor MamlLearner::BaselineValues(const torch::Tensor& obs, const torch::Tensor& steps,
+                                          const torch::Tensor& returns,
+                                          const torch::Tensor& fit_rows) {
+  if (config_.baseline == "linear") {
+    torch::NoGradGuard no_grad;
+    rl::LinearFeatureBaseline baseline(spaces_.obs_dim);
+    baseline.Fit(obs.index_select(0, fit_rows), steps.index_select(0, fit_rows),
+                 returns.index_select(0, fit_rows));
+    return baseline.Predict(obs, steps);
+  }
+  c10::InferenceMode off(false);
+  torch::AutoGradMode grad(true);
+  const torch::Tensor x = torch::cat({obs, (steps / 100.0f).unsqueeze(1)}, 1).detach();
+  const torch::Tensor target = returns.index_select(0, fit_rows).detach();
+  const torch::Tensor fit_x = x.index_select(0, fit_rows);
+  // standardised targets: one learning rate serves every reward scale
+  const double mean = target.mean().item<double>();
+  const double scale =
+      target.numel() > 1 ? std::max(target.std().item<double>(), 1e-6) : 1.0;
+  const torch::Tensor y = ((target - mean) / scale).unsqueeze(1);
+  {
+    torch::NoGradGuard no_grad;
+    value_net_->flat().copy_(value_init_);
+  }
+  nn::FlatAdam adam(value_net_->num_params(), nn::AdamOptions{.lr = config_.value_lr});
+  for (int64_t k = 0; k < config_.value_fit_steps; ++k) {
+    const torch::Tensor loss = (value_net_->Forward(fit_x) - y).pow(2).mean();
+    value_net_->ZeroGrad();
+    loss.backward();
+    adam.Step(value_net_->flat(), value_net_->flat_grad());
+  }
+  torch::NoGradGuard no_grad;
+  return value_net_->Forward(x).squeeze(1) * scale + mean;
 }
 
 torch::Tensor MamlLearner::Advantages(const torch::Tensor& obs, const torch::Tensor& rewards,
                                       const torch::Tensor& ended,
-                                      const torch::Tensor& valid) const {
+                                      const torch::Tensor& valid) {
   torch::NoGradGuard no_grad;
   const int64_t t_len = rewards.size(0);
   // step within the episode, and discounted returns (every end terminal)
@@ -119,10 +176,7 @@ torch::Tensor MamlLearner::Advantages(const torch::Tensor& obs, const torch::Ten
     g[k] = static_cast<float>(next);
   }
   const torch::Tensor rows = valid.nonzero().squeeze(1);
-  rl::LinearFeatureBaseline baseline(spaces_.obs_dim);
-  baseline.Fit(obs.index_select(0, rows), steps.index_select(0, rows),
-               returns.index_select(0, rows));
-  const torch::Tensor values = baseline.Predict(obs, steps);
+  const torch::Tensor values = BaselineValues(obs, steps, returns, rows).detach();
   const torch::Tensor flags = ended.reshape({t_len, 1});
   torch::Tensor adv =
       rl::ComputeGae(rewards.reshape({t_len, 1}), values.reshape({t_len, 1}), flags, flags,

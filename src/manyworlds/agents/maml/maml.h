@@ -39,6 +39,7 @@
 #include "manyworlds/agents/maml/maml_config.h"
 #include "manyworlds/agents/policy_gradient/policy_gradient.h"
 #include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/mlp.h"
 #include "manyworlds/nn/stochastic_policy.h"
 
 namespace manyworlds::agents {
@@ -80,8 +81,9 @@ class MamlLearner : public OnPolicyLearner, public Actor {
 
   // Advantages of episodes given as (T) rows of one env: rewards, episode
   // ends (the last row must end one), valid rows (weights 0/1).
+  // The baseline is fitted on these episodes alone (see MamlConfig).
   torch::Tensor Advantages(const torch::Tensor& obs, const torch::Tensor& rewards,
-                           const torch::Tensor& ended, const torch::Tensor& valid) const;
+                           const torch::Tensor& ended, const torch::Tensor& valid);
   // theta - inner_lr * grad L(theta) on the episodes (rows with weight 0
   // ignored); create_graph keeps the inner gradient differentiable.
   std::vector<torch::Tensor> InnerStep(at::ArrayRef<torch::Tensor> params,
@@ -94,6 +96,15 @@ class MamlLearner : public OnPolicyLearner, public Actor {
   at::Generator generator_;
   nn::StochasticPolicy policy_{nullptr};
   nn::FlatAdam outer_optimizer_;  // MAML-PPO
+  // baseline value_network: the network refitted per task, and the initial
+  // weights every fit starts from (drawn from the seed, never trained).
+  nn::Mlp value_net_{nullptr};
+  torch::Tensor value_init_;
+
+  // Baseline values of every row, fitted on rows `fit_rows` (step = index
+  // within the episode, returns = discounted returns).
+  torch::Tensor BaselineValues(const torch::Tensor& obs, const torch::Tensor& steps,
+                               const torch::Tensor& returns, const torch::Tensor& fit_rows);
   int64_t num_updates_ = 0;
 };
 

@@ -7,6 +7,13 @@
 // garage's MAMLPPO instead: outer_epochs Adam steps (lr outer_lr, garage
 // 1e-3) on the clipped post-adaptation surrogate (clip 0.5, garage's
 // lr_clip_range), gradients through the inner step as for TRPO.
+// baseline: "linear" is garage's LinearFeatureBaseline, fitted per task
+// instance; "value_network" is an MLP value function (tanh, inputs obs and
+// step / 100) reset to its initial weights and a fresh Adam before every
+// per-task fit, then fitted for value_fit_steps full-batch steps on the
+// task's discounted returns (standardised), so no task's fit leaks into
+// another's. garage fits its GaussianMLPBaseline with its own optimizer;
+// ours uses Adam.
 #ifndef MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
 #define MANYWORLDS_AGENTS_MAML_MAML_CONFIG_H_
 
@@ -29,6 +36,11 @@ struct MamlConfig {
   double gae_lambda = 1.0;
   bool center_advantages = true;
   std::string outer = "trpo";  // trpo | ppo
+  std::string baseline = "linear";  // linear | value_network
+  int64_t value_hidden_dim = 32;    // value_network (garage's (32, 32))
+  int64_t value_num_layers = 2;
+  double value_lr = 1e-2;
+  int64_t value_fit_steps = 50;
   double outer_lr = 1e-3;      // ppo
   int64_t outer_epochs = 1;    // ppo: Adam steps per iteration
   double clip_range = 0.5;     // ppo
@@ -52,6 +64,11 @@ struct MamlConfig {
     f("gae_lambda", gae_lambda);
     f("center_advantages", center_advantages);
     f("outer", outer);
+    f("baseline", baseline);
+    f("value_hidden_dim", value_hidden_dim);
+    f("value_num_layers", value_num_layers);
+    f("value_lr", value_lr);
+    f("value_fit_steps", value_fit_steps);
     f("outer_lr", outer_lr);
     f("outer_epochs", outer_epochs);
     f("clip_range", clip_range);
