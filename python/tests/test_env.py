@@ -52,6 +52,25 @@ def test_gymnasium_make_passes_options():
     assert manyworlds.make("point-nav", max_episode_steps=7).max_episode_steps == 7
 
 
+def test_recurrent_meta_obs_option_feeds_a_recurrent_policy():
+    # Meta-World v3's recurrent meta-RL observation: env obs, previous action (one-hot for
+    # Discrete), reward / 10, episode-end flag; zeros for the three after reset.
+    env = manyworlds.make("bandit", n_arms=3, horizon=2, recurrent_meta_obs=True)
+    assert env.observation_space["env_obs"].shape == (4 + 3 + 2,)
+    check_env(env)
+    env.set_task_state({"env": "bandit", "params": {"probs": [0.0, 1.0, 0.0]}})
+    obs, _ = env.reset(seed=1)
+    assert np.all(obs["env_obs"][4:] == 0)
+    obs, reward, terminated, truncated, _ = env.step(1)
+    np.testing.assert_allclose(obs["env_obs"], [0, 1, 0, 1, 0, 1, 0, 0.1, 0], rtol=1e-6)
+    obs, *_ , truncated, _ = env.step(0)
+    assert truncated and obs["env_obs"][-1] == 1.0
+    scaled = manyworlds.make("point-nav", recurrent_meta_obs=True, recurrent_meta_obs_reward_scale=1.0)
+    scaled.reset(seed=0)
+    obs, reward, *_ = scaled.step(np.array([0.05, 0.0], dtype=np.float32))
+    assert obs["env_obs"][4] == pytest.approx(reward)
+
+
 def test_spaces_and_step_types():
     env = manyworlds.make("cartpole")
     assert isinstance(env.observation_space, gym.spaces.Dict)

@@ -76,6 +76,21 @@ TEST(MetaWrappersTest, RecurrentObservationAppendsActionScaledRewardAndDone) {
   EXPECT_FLOAT_EQ(step.obs.env_obs[2], 0.1f);
   EXPECT_FLOAT_EQ(step.obs.env_obs[3], -0.1f);
   EXPECT_EQ(step.obs.env_obs[4], step.reward);
+
+  // the registry options build the same wrapper, outside terminate_on_success
+  // (whose ends it reports as done)
+  auto option = Make("point-nav", {{"recurrent_meta_obs", true},
+                                   {"recurrent_meta_obs_reward_scale", 0.5},
+                                   {"terminate_on_success", true}});
+  EXPECT_EQ(option->spec().env_obs_space.flat_size(), 6);
+  option->SetTaskState(TaskState{"point-nav", {{"goal", {0.1, 0.0}}}});
+  option->Reset();
+  StepResult r;
+  for (int t = 0; t < 20 && !r.terminated; ++t) r = option->Step(std::vector<float>{1.0f, 0.0f});
+  EXPECT_TRUE(r.terminated);
+  EXPECT_FLOAT_EQ(r.obs.env_obs[4], 0.5f * r.reward);
+  EXPECT_EQ(r.obs.env_obs[5], 1.0f);
+  EXPECT_THROW(Make("bandit", {{"recurrent_meta_obs_reward_scale", "much"}}), ConfigError);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/wrappers/recurrent_meta_obs.h"
 #include "manyworlds/core/wrappers/terminate_on_success.h"
 
 namespace manyworlds {
@@ -125,7 +126,8 @@ void Registry::Add(EnvRegistration registration) {
     throw ConfigError("env id '" + registration.id + "' is registered twice");
   }
   for (const auto& option : registration.options) {
-    if (option.name == kMaxEpisodeStepsOption || option.name == kTerminateOnSuccessOption) {
+    if (option.name == kMaxEpisodeStepsOption || option.name == kTerminateOnSuccessOption ||
+        option.name == kRecurrentMetaObsOption || option.name == kRecurrentMetaObsScaleOption) {
       throw ConfigError("env '" + registration.id + "' declares the reserved option '" +
                         option.name + "'");
     }
@@ -137,6 +139,13 @@ void Registry::Add(EnvRegistration registration) {
       {std::string(kTerminateOnSuccessOption), OptionType::kBool, false,
        "end an episode (terminated) at the first step whose `success` info is 1, as Meta-World "
        "v3's evaluation does; only for envs with a success field"});
+  registration.options.push_back(
+      {std::string(kRecurrentMetaObsOption), OptionType::kBool, false,
+       "append the previous action, the scaled reward and the episode-end flag to the env "
+       "observation, as Meta-World v3's recurrent meta-RL wrapper does (Box observations only)"});
+  registration.options.push_back(
+      {std::string(kRecurrentMetaObsScaleOption), OptionType::kFloat, 0.1,
+       "the reward factor of recurrent_meta_obs (Meta-World v3: 1/10)"});
   entries_.push_back(std::move(registration));
 }
 
@@ -198,6 +207,10 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
   if (limit >= 0) env->SetMaxEpisodeSteps(limit);
   if (resolved.Bool(kTerminateOnSuccessOption)) {
     env = std::make_unique<TerminateOnSuccess>(std::move(env));
+  }
+  if (resolved.Bool(kRecurrentMetaObsOption)) {
+    env = std::make_unique<RecurrentMetaObservation>(std::move(env),
+                                                     resolved.Float(kRecurrentMetaObsScaleOption));
   }
   return env;
 }

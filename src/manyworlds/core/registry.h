@@ -66,6 +66,10 @@ class Registry {
   // Option every registration gets: end episodes at the first success
   // (TerminateOnSuccess; a ConfigError for envs without a `success` field).
   static constexpr std::string_view kTerminateOnSuccessOption = "terminate_on_success";
+  // Options every registration gets: the recurrent meta-RL observation
+  // (RecurrentMetaObservation, outermost) and the reward scale it uses.
+  static constexpr std::string_view kRecurrentMetaObsOption = "recurrent_meta_obs";
+  static constexpr std::string_view kRecurrentMetaObsScaleOption = "recurrent_meta_obs_reward_scale";
 
   // Throws ConfigError on a duplicate id.
   void Add(EnvRegistration registration);
