@@ -10,6 +10,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libosmesa6-dev           # offscreen rendering
   ffmpeg                   # video encoding for `manyworlds render`
+  zlib1g-dev               # CRC-32 of checkpoint files
 )
 missing=()
 for p in "${packages[@]}"; do

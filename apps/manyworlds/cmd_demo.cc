@@ -9,7 +9,7 @@
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
 #include "apps/manyworlds/demo_config.h"
-#include "manyworlds/config/atomic_file.h"
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/config/yaml.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"

@@ -18,6 +18,7 @@
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
 
 namespace manyworlds::cli {
@@ -155,6 +156,7 @@ class TrainStatus {
 struct TrainArgs {
   std::vector<std::string> positional;  // CONFIG then overrides
   std::string resume;
+  bool restart = false;
   int64_t stop_after = -1;
 };
 
@@ -165,8 +167,9 @@ void RunTrain(const TrainArgs& args, const CommandContext& context) {
       throw ConfigError("--resume continues a run with its saved config; drop '" +
                         args.positional.front() + "'");
     }
-    trainer.emplace(experiments::Trainer::Resume(args.resume));
+    trainer.emplace(experiments::Trainer::Resume(args.resume, args.restart));
   } else {
+    if (args.restart) throw ConfigError("--restart goes with --resume RUN_DIR");
     std::optional<fs::path> file;
     std::vector<std::string> overrides;
     for (const auto& arg : args.positional) {
@@ -191,6 +194,7 @@ void RunTrain(const TrainArgs& args, const CommandContext& context) {
   TrainStatus& status = *status_line;
   const int64_t steps = trainer->config().experiment.steps_per_task;
   status.Start(*trainer, steps);
+  for (const std::string& warning : trainer->warnings()) status.Note("warning: " + warning);
   if (trainer->step() > 0) {
     status.Note("train: resuming " + run_dir + " at step " + std::to_string(trainer->step()));
   }
@@ -227,11 +231,21 @@ struct EvalArgs {
 
 
 
+// The checkpoint `which` names (latest: the newest intact one, with a
+// warning per damaged newer one), verified before use.
 fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
-  if (which == "latest") return experiments::LatestCheckpoint(run_dir);
+  if (which == "latest") {
+    const experiments::ChosenCheckpoint chosen = experiments::ChooseCheckpoint(run_dir);
+    for (const std::string& warning : chosen.warnings) std::cerr << "warning: " << warning << "\n";
+    return chosen.dir;
+  }
   const fs::path in_run = experiments::RunPaths{run_dir}.checkpoints() / which;
-  if (fs::is_directory(in_run)) return in_run;
-  if (fs::is_directory(which)) return which;
+  for (const fs::path& dir : {in_run, fs::path(which)}) {
+    if (fs::is_directory(dir)) {
+      experiments::VerifyCheckpoint(dir, run_dir);
+      return dir;
+    }
+  }
   std::string available;
   const fs::path dir = experiments::RunPaths{run_dir}.checkpoints();
   if (fs::is_directory(dir)) {
@@ -295,7 +309,11 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
     run_dir = fs::path(path).parent_path().parent_path();
   }
   const experiments::RunInfo run = experiments::RunInfo::Read(run_dir);
-  if (checkpoint.empty()) checkpoint = FindCheckpoint(run_dir, "latest");
+  if (checkpoint.empty()) {
+    checkpoint = FindCheckpoint(run_dir, "latest");
+  } else {
+    experiments::VerifyCheckpoint(checkpoint, run_dir);
+  }
   if (!env_id.empty() && env_id != run.config.env.id) {
     throw ConfigError("rollout: --env '" + env_id + "' is not the env of run '" +
                       run_dir.string() + "' ('" + run.config.env.id +
@@ -351,6 +369,9 @@ void AddTrainCommand(CLI::App& app, CommandContext& context) {
                   "overrides such as experiment.seed=2 agent.hidden_dim=64");
   cmd->add_option("--resume", args->resume,
                   "continue the run in this directory from its latest checkpoint");
+  cmd->add_flag("--restart", args->restart,
+               "with --resume, for a run with no intact checkpoint: train it again from step 0 "
+               "with its saved config (damaged checkpoints are kept as checkpoints.damaged.N)");
   cmd->add_option("--stop-after", args->stop_after,
                   "stop after the first checkpoint at or past this many steps per env "
                   "(continue later with --resume)")

@@ -211,6 +211,16 @@ TEST(CliTest, ExportXmlWritesALoadableModel) {
   EXPECT_NE(xml.find("<mujoco"), std::string::npos);
   EXPECT_NE(xml.find("name=\"obj\""), std::string::npos);
   EXPECT_EQ(xml.find("<include"), std::string::npos);  // self-contained
+  // never written over a device, a directory or a link: one error line, exit 1
+  fs::create_directories(dir / "sub");
+  for (const char* target : {"/dev/null", "sub"}) {
+    const RunResult refused =
+        RunCli(std::string("export-xml --env reach --out ") + target, dir);
+    EXPECT_EQ(refused.exit_code, 1) << target;
+    EXPECT_NE(refused.err.find("not a regular file"), std::string::npos) << refused.err;
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_TRUE(fs::is_directory(dir / "sub"));
 }
 
 TEST(CliTest, CheckEnvPassesOnCartpole) {

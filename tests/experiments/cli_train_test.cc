@@ -174,6 +174,7 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
       {"train tiny.yaml env.id=point-nva", 2, "point-nav"},
       {"train --resume nowhere", 2, "nowhere"},
       {"train tiny.yaml --resume nowhere", 2, "resume"},
+      {"train tiny.yaml --restart", 2, "--resume"},
       {"eval nowhere", 2, "nowhere"},
   };
   for (const auto& c : cases) {

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/run_lock.h"
 #include "manyworlds/experiments/run_log.h"
 #include "manyworlds/experiments/trainer.h"
@@ -169,8 +170,9 @@ TEST(ResumeTest, ARunDirectoryHasOneWriterAtATime) {
     Trainer first = Trainer::Create(Tiny(dir));
     EXPECT_NE(message([&] { Trainer::Resume(dir); }).find("in use"), std::string::npos);
   }
-  // released with the trainer: the run continues
-  EXPECT_NO_THROW(Trainer::Resume(dir));
+  // released with the trainer: the run (stopped before its first
+  // checkpoint) may be trained again
+  EXPECT_NO_THROW(Trainer::Resume(dir, /*restart=*/true));
   fs::remove_all(dir);
 
   // killed before config.yaml was written: not a run yet, so train may start it again
@@ -225,6 +227,108 @@ TEST(ResumeTest, BadRunsFailClearlyAndLoseNothing) {
     EXPECT_NE(std::string(e.what()).find("replay.bin"), std::string::npos) << e.what();
   }
   EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);
+  fs::remove_all(dir);
+}
+
+TEST(ResumeTest, DamagedCheckpointsAreFoundAndTheNewestIntactOneIsUsed) {
+  const fs::path dir = Scratch("damage");
+  {
+    Trainer t = Trainer::Create(Tiny(dir));
+    ASSERT_TRUE(t.Run().finished);
+  }
+  const fs::path newest = dir / "checkpoints/step_000000000600";
+  const std::string learner = Slurp(newest / "learner.pt");
+  EXPECT_FALSE(CheckpointProblem(newest));
+
+  // one flipped bit, same size: found, and the run goes back to step 300
+  std::string flipped = learner;
+  flipped[flipped.size() / 2] ^= 0x10;
+  std::ofstream(newest / "learner.pt", std::ios::binary | std::ios::trunc) << flipped;
+  ASSERT_TRUE(CheckpointProblem(newest));
+  EXPECT_NE(CheckpointProblem(newest)->find("learner.pt"), std::string::npos);
+  const ChosenCheckpoint chosen = ChooseCheckpoint(dir);
+  EXPECT_EQ(chosen.dir.filename(), "step_000000000300");
+  ASSERT_EQ(chosen.warnings.size(), 1u);
+  EXPECT_NE(chosen.warnings[0].find("step_000000000600"), std::string::npos);
+  EXPECT_THROW(VerifyCheckpoint(newest, dir), Error);
+  {
+    Trainer resumed = Trainer::Resume(dir);
+    EXPECT_EQ(resumed.step(), 300);
+    EXPECT_EQ(resumed.warnings().size(), 1u);
+    ASSERT_TRUE(resumed.Run().finished);
+  }
+  // retrained from 300, the damaged checkpoint is rewritten bit for bit
+  EXPECT_EQ(Slurp(newest / "learner.pt"), learner);
+  EXPECT_FALSE(CheckpointProblem(newest));
+  const std::string metrics = Slurp(dir / "metrics.jsonl");
+
+  // an edited step in state.json
+  const std::string state = Slurp(newest / "state.json");
+  std::string edited = state;
+  const size_t at = edited.find("\"step\": 600");
+  ASSERT_NE(at, std::string::npos);
+  edited.replace(at, 11, "\"step\": 500");
+  std::ofstream(newest / "state.json", std::ios::trunc) << edited;
+  ASSERT_TRUE(CheckpointProblem(newest));
+  EXPECT_NE(CheckpointProblem(newest)->find("state.json"), std::string::npos);
+  EXPECT_EQ(ChooseCheckpoint(dir).dir.filename(), "step_000000000300");
+  std::ofstream(newest / "state.json", std::ios::trunc) << state;
+
+  // an empty `latest` changes nothing
+  std::ofstream(dir / "checkpoints/latest", std::ios::trunc).flush();
+  EXPECT_EQ(ChooseCheckpoint(dir).dir, newest);
+
+  // a config.yaml that is not the run's: every checkpoint refuses it
+  const std::string config = Slurp(dir / "config.yaml");
+  std::ofstream(dir / "config.yaml", std::ios::app) << "# edited\n";
+  try {
+    Trainer::Resume(dir);
+    ADD_FAILURE() << "an edited config.yaml resumed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("config.yaml"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(LatestCheckpoint(dir), Error);
+  std::ofstream(dir / "config.yaml", std::ios::trunc) << config;
+  EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);  // nothing lost
+  fs::remove_all(dir);
+}
+
+TEST(ResumeTest, ARunWithoutCheckpointsAsksForRestartInsteadOfRetrainingSilently) {
+  const fs::path dir = Scratch("nockpt");
+  {
+    Trainer t = Trainer::Create(Tiny(dir));
+    ASSERT_TRUE(t.Run().finished);
+  }
+  const std::string metrics = Slurp(dir / "metrics.jsonl");
+  const std::vector<nlohmann::json> rows = Rows(dir / "metrics.jsonl");
+  fs::remove_all(dir / "checkpoints");
+  try {
+    Trainer::Resume(dir);
+    ADD_FAILURE() << "a run without checkpoints resumed";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("--restart"), std::string::npos) << e.what();
+  }
+  // checkpoints/ as a file: the same, and nothing is truncated
+  std::ofstream(dir / "checkpoints") << "not a directory";
+  try {
+    Trainer::Resume(dir);
+    ADD_FAILURE() << "a run whose checkpoints/ is a file resumed";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("not a directory"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);
+  EXPECT_TRUE(fs::exists(dir / "summary.json"));
+  // --restart trains again from step 0, keeping the stray file aside
+  {
+    Trainer again = Trainer::Resume(dir, /*restart=*/true);
+    EXPECT_EQ(again.step(), 0);
+    EXPECT_FALSE(fs::exists(dir / "summary.json"));
+    EXPECT_TRUE(fs::exists(dir / "checkpoints.damaged.1"));
+    ASSERT_TRUE(again.Run().finished);
+  }
+  EXPECT_EQ(Rows(dir / "metrics.jsonl"), rows);  // the same run again
+  // with an intact checkpoint, --restart is refused
+  EXPECT_THROW(Trainer::Resume(dir, /*restart=*/true), ConfigError);
   fs::remove_all(dir);
 }
 

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "manyworlds/config/atomic_file.h"
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::experiments {

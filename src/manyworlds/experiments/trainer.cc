@@ -14,7 +14,7 @@
 
 #include <torch/torch.h>
 
-#include "manyworlds/config/atomic_file.h"
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/config/yaml.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/executor.h"
@@ -22,6 +22,7 @@
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/algorithms.h"
+#include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/meta_test_protocol.h"
 #include "manyworlds/experiments/collector.h"
 #include "manyworlds/experiments/run_lock.h"
@@ -105,25 +106,7 @@ nlohmann::json TrainSummary::ToJson() const {
           {"final_meta_test", final_meta_test ? *final_meta_test : nlohmann::json(nullptr)}};
 }
 
-fs::path LatestCheckpoint(const fs::path& run_dir) {
-  const fs::path dir = RunPaths{run_dir}.checkpoints();
-  const fs::path latest = dir / kLatestFile;
-  if (fs::exists(latest)) {
-    std::string name = ReadText(latest);
-    while (!name.empty() && (name.back() == '\n' || name.back() == ' ')) name.pop_back();
-    if (name.find('/') == std::string::npos && fs::is_directory(dir / name)) return dir / name;
-  }
-  std::vector<fs::path> found;
-  if (fs::is_directory(dir)) {
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      if (entry.is_directory() && name.rfind("step_", 0) == 0) found.push_back(entry.path());
-    }
-  }
-  if (found.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
-  std::sort(found.begin(), found.end());
-  return found.back();
-}
+fs::path LatestCheckpoint(const fs::path& run_dir) { return ChooseCheckpoint(run_dir).dir; }
 
 RunInfo RunInfo::Read(const fs::path& run_dir) {
   const RunPaths paths{run_dir};
@@ -158,6 +141,16 @@ RunInfo RunInfo::Read(const fs::path& run_dir) {
 
 namespace {
 
+// The step a checkpoint was taken at; Error naming the file if unreadable.
+int64_t CheckpointStep(const fs::path& checkpoint) {
+  const auto state = nlohmann::json::parse(ReadText(checkpoint / "state.json"), nullptr, false);
+  if (state.is_object() && state.contains("step") && state["step"].is_number_integer() &&
+      state["step"].get<int64_t>() >= 0) {
+    return state["step"].get<int64_t>();
+  }
+  throw Error("checkpoint '" + checkpoint.string() + "': state.json has no valid step");
+}
+
 // Held-out tasks must present the spaces the policy was trained on.
 void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry) {
   const EnvFacts eval = InspectEnvs(eval_tasks, registry);
@@ -188,12 +181,7 @@ nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint
                             seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
                             run.config.experiment.num_threads);
   MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
-  try {
-    const auto state = nlohmann::json::parse(ReadText(checkpoint / "state.json"));
-    result.step = state.at("step").get<int64_t>();
-  } catch (const std::exception&) {
-    result.step = 0;
-  }
+  result.step = CheckpointStep(checkpoint);
   return result.ToJson();
 }
 
@@ -215,13 +203,7 @@ EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, in
                       seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
                       run.config.experiment.num_threads);
   EvalResult result = evaluator.Run(algorithm->actor());
-  // the step the checkpoint was taken at
-  try {
-    const auto state = nlohmann::json::parse(ReadText(checkpoint / "state.json"));
-    result.step = state.at("step").get<int64_t>();
-  } catch (const std::exception&) {
-    result.step = 0;
-  }
+  result.step = CheckpointStep(checkpoint);
   return result;
 }
 
@@ -248,6 +230,7 @@ struct Trainer::Impl {
   std::unique_ptr<RunLog> eval_log;
   std::unique_ptr<RunLog> meta_test_log;
   std::optional<nlohmann::json> last_meta_test;  // this session's
+  std::vector<std::string> warnings;              // found by Resume
 
   // counters (checkpointed)
   int64_t step = 0;
@@ -329,6 +312,7 @@ fs::path Trainer::Impl::SaveCheckpoint() {
       {"last_eval", OptionalEval(last_eval)},
   };
   algorithm->Save(tmp, state);
+  SealCheckpointState(tmp, paths.dir, state);
   AtomicWriteFile(tmp / "state.json", state.dump(2) + "\n");
   for (const auto& entry : fs::directory_iterator(tmp)) FsyncPath(entry.path(), false);
   FsyncPath(tmp, true);
@@ -545,20 +529,49 @@ Trainer Trainer::Create(const TrainConfig& config) {
   return Trainer(std::move(impl));
 }
 
-Trainer Trainer::Resume(const fs::path& run_dir) {
+Trainer Trainer::Resume(const fs::path& run_dir, bool restart) {
   std::unique_ptr<RunLock> lock;
   if (fs::is_directory(run_dir)) lock = std::make_unique<RunLock>(run_dir);
   RunInfo info = RunInfo::Read(run_dir);
   auto impl = std::make_unique<Impl>();
   impl->lock = std::move(lock);
   impl->Setup(info.config, std::move(info.tasks), std::move(info.eval_tasks), run_dir);
-  std::optional<fs::path> checkpoint;
+  std::optional<ChosenCheckpoint> chosen;
+  std::string none;  // why there is nothing to resume from
   try {
-    checkpoint = LatestCheckpoint(run_dir);
-  } catch (const ConfigError&) {
-    // stopped before its first checkpoint: start over
+    chosen = ChooseCheckpoint(run_dir);
+  } catch (const ConfigError& e) {
+    none = e.what();
+  } catch (const Error& e) {
+    if (!restart) throw;
+    none = e.what();
   }
-  if (checkpoint) impl->LoadCheckpoint(*checkpoint);
+  if (chosen && restart) {
+    throw ConfigError("run '" + run_dir.string() + "' has an intact checkpoint (" +
+                      chosen->dir.filename().string() + "); resume it without --restart");
+  }
+  if (!chosen && !restart) {
+    throw ConfigError(none + ", so there is nothing to resume; `manyworlds train --resume " +
+                      run_dir.string() + " --restart` trains it again from step 0 with its " +
+                      "saved config");
+  }
+  if (chosen) {
+    impl->warnings = chosen->warnings;
+    impl->LoadCheckpoint(chosen->dir);
+  } else {
+    // keep whatever was there (damaged checkpoints, a stray file) beside the run
+    const fs::path old = impl->paths.checkpoints();
+    if (fs::exists(fs::symlink_status(old))) {
+      fs::path aside;
+      for (int n = 1;; ++n) {
+        aside = run_dir / ("checkpoints.damaged." + std::to_string(n));
+        if (!fs::exists(fs::symlink_status(aside))) break;
+      }
+      fs::rename(old, aside);
+      impl->warnings.push_back("moved '" + old.string() + "' to '" + aside.string() + "'");
+    }
+    fs::remove(impl->paths.summary());
+  }
   // only now (everything loaded) drop the rows logged after the checkpoint
   impl->metrics_log = std::make_unique<RunLog>(run_dir, "metrics");
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
@@ -576,5 +589,6 @@ const TrainConfig& Trainer::config() const { return impl_->config; }
 const TaskSet& Trainer::tasks() const { return impl_->tasks; }
 int64_t Trainer::step() const { return impl_->step; }
 const fs::path& Trainer::run_dir() const { return impl_->paths.dir; }
+const std::vector<std::string>& Trainer::warnings() const { return impl_->warnings; }
 
 }  // namespace manyworlds::experiments

@@ -94,8 +94,8 @@ struct RunPaths {
   std::filesystem::path summary() const { return dir / "summary.json"; }
 };
 
-// The newest complete checkpoint of a run ("checkpoints/latest", else the
-// highest step_* directory). Throws ConfigError if the run has none.
+// The newest intact checkpoint of a run (ChooseCheckpoint without the
+// warnings). Throws ConfigError if the run has none, Error if none is intact.
 std::filesystem::path LatestCheckpoint(const std::filesystem::path& run_dir);
 
 // A resolved run read back from its directory: config and tasks. Throws
@@ -126,10 +126,15 @@ class Trainer {
   // writes config.yaml and tasks.json. Throws ConfigError on a bad config or
   // if run_dir already holds a run (resume it or choose another).
   static Trainer Create(const TrainConfig& config);
-  // Continues a run from its latest checkpoint, or starts it if it stopped
-  // before the first one. Throws ConfigError if run_dir is not a run, Error
-  // if the checkpoint is corrupt.
-  static Trainer Resume(const std::filesystem::path& run_dir);
+  // Continues a run from its newest intact checkpoint (damaged newer ones
+  // are skipped, each with a line in warnings()). Throws ConfigError if
+  // run_dir is not a run or has no checkpoint to continue from, Error if
+  // none is intact or the run files changed. restart: the run has no
+  // intact checkpoint (it stopped before its first, or all are damaged);
+  // train it again from step 0 with its saved config, keeping whatever was
+  // in checkpoints/ as checkpoints.damaged.N/ (a ConfigError if an intact
+  // checkpoint exists: resume that instead).
+  static Trainer Resume(const std::filesystem::path& run_dir, bool restart = false);
 
   Trainer(Trainer&&) noexcept;
   Trainer& operator=(Trainer&&) noexcept;
@@ -143,6 +148,8 @@ class Trainer {
   const TaskSet& tasks() const;
   int64_t step() const;
   const std::filesystem::path& run_dir() const;
+  // What Resume found wrong but could work around (damaged checkpoints).
+  const std::vector<std::string>& warnings() const;
 
  private:
   struct Impl;

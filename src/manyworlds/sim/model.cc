@@ -1,11 +1,17 @@
 #include "manyworlds/sim/model.h"
 
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <mutex>
 #include <sstream>
+
+#include "manyworlds/core/atomic_file.h"
 
 namespace manyworlds::sim {
 namespace {
@@ -58,20 +64,12 @@ void AppendNumbers(std::string* out, const char* attribute, const mjtNum* values
   *out += '"';
 }
 
-void InsertBeforeClosingTag(const std::string& file, std::string_view elements) {
-  std::string text;
-  {
-    std::ifstream in(file, std::ios::binary);
-    text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (!in.good() && !in.eof()) throw MujocoError("cannot read back '" + file + "'");
-  }
-  const size_t close = text.rfind("</mujoco>");
-  if (close == std::string::npos) throw MujocoError("saved MJCF '" + file + "' has no </mujoco>");
-  text.insert(close, std::string(elements));
-  std::ofstream out(file, std::ios::binary | std::ios::trunc);
-  out << text;
-  out.close();
-  if (!out) throw MujocoError("cannot write '" + file + "'");
+// The text of a file MuJoCo just wrote.
+std::string ReadBack(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.good() && !in.eof()) throw MujocoError("cannot read back '" + file + "'");
+  return text;
 }
 
 }  // namespace
@@ -96,7 +94,16 @@ void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const Vi
   InstallMujocoHandlers();
   if (model == nullptr) throw MujocoError("SaveModelXml: model is null");
   auto vfs = MakeVfs(xml, files, main_name);
-  const std::string temp = path + ".tmp";
+  // MuJoCo writes to a private temporary file; the result reaches `path`
+  // through AtomicWriteFile, which never replaces anything but a regular file
+  std::string temp = (std::filesystem::temp_directory_path() / "manyworlds_mjcf_XXXXXX").string();
+  const int fd = mkstemp(temp.data());
+  if (fd < 0) throw MujocoError("cannot write MJCF to '" + path + "': no temporary file");
+  close(fd);
+  struct RemoveTemp {
+    const std::string& file;
+    ~RemoveTemp() { std::remove(file.c_str()); }
+  } remove_temp{temp};
   char error[1024] = "";
   {
     std::lock_guard<std::mutex> lock(LoadMutex());
@@ -110,23 +117,19 @@ void SaveModelXml(const mjModel* model, std::string_view xml, std::span<const Vi
                         "': the given model was not compiled from this document");
     }
     if (!mj_saveLastXML(temp.c_str(), model, error, sizeof(error))) {
-      std::remove(temp.c_str());
       throw MujocoError("cannot write MJCF to '" + path + "': " +
                         (error[0] ? error : "mj_saveLastXML failed"));
     }
   }
+  std::string text = ReadBack(temp);
   if (!extra_elements.empty()) {
-    try {
-      InsertBeforeClosingTag(temp, extra_elements);
-    } catch (...) {
-      std::remove(temp.c_str());
-      throw;
+    const size_t close_tag = text.rfind("</mujoco>");
+    if (close_tag == std::string::npos) {
+      throw MujocoError("saved MJCF for '" + path + "' has no </mujoco>");
     }
+    text.insert(close_tag, std::string(extra_elements));
   }
-  if (std::rename(temp.c_str(), path.c_str()) != 0) {
-    std::remove(temp.c_str());
-    throw MujocoError("cannot write MJCF to '" + path + "': rename failed");
-  }
+  AtomicWriteFile(path, text);
 }
 
 ModelPtr LoadModelFromString(std::string_view xml, std::span<const VirtualFile> files,

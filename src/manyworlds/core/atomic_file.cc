@@ -1,4 +1,4 @@
-#include "manyworlds/config/atomic_file.h"
+#include "manyworlds/core/atomic_file.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -22,6 +22,14 @@ namespace {
 void AtomicWriteFile(const std::filesystem::path& path, std::string_view content) {
   if (path.filename().empty()) throw Error("cannot write '" + path.string() + "': not a file name");
   const std::filesystem::path dir = path.has_parent_path() ? path.parent_path() : ".";
+  // the rename replaces what is at `path`: only ever a regular file, never a
+  // device (/dev/full), a directory, a pipe or a link
+  struct stat existing;
+  if (lstat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode)) {
+    throw Error("cannot write '" + path.string() +
+                "': it exists and is not a regular file (a device, directory, pipe or link); "
+                "give the path of a file");
+  }
   std::string temp = (dir / ("." + path.filename().string() + ".tmp.XXXXXX")).string();
   const int fd = mkstemp(temp.data());
   if (fd < 0) Fail(path, "cannot create a temporary file in '" + dir.string() + "'", errno);
