@@ -153,11 +153,26 @@ def text(x, y, s, size=12, anchor="start", color=TEXT, extra=""):
             f'text-anchor="{anchor}" {extra}>{escape(s)}</text>')
 
 
-def panel(x0, y0, w, h, series, xticks, yticks, refs=(), size=11):
-    """One chart: grid, ticks, dashed reference lines and one polyline per (color, points)."""
+def range_ticks(lo, hi, target):
+    """Round tick values covering [lo, hi] (any signs) with about `target` intervals."""
+    if hi <= lo:
+        lo, hi = lo - 1.0, hi + 1.0
+    raw = (hi - lo) / target
+    mag = 10 ** math.floor(math.log10(raw))
+    step = next(m * mag for m in (1, 2, 2.5, 5, 10) if m * mag >= raw - 1e-12)
+    first, last = math.floor(lo / step + 1e-9), math.ceil(hi / step - 1e-9)
+    return [round(i * step, 9) for i in range(first, last + 1)]
+
+
+def panel(x0, y0, w, h, series, xticks, yticks, refs=(), size=11, dashed=()):
+    """One chart: grid, ticks, dashed reference lines and one polyline per (color, points).
+
+    The y axis spans yticks[0]..yticks[-1]; series whose index is in `dashed` are drawn dashed.
+    """
     xmax = xticks[-1]
+    ylo, yhi = yticks[0], yticks[-1]
     px = lambda x: x0 + w * x / xmax
-    py = lambda y: y0 + h * (1 - min(max(y, 0.0), 1.0))
+    py = lambda y: y0 + h * (1 - (min(max(y, ylo), yhi) - ylo) / (yhi - ylo))
     out = [f'<rect x="{x0}" y="{y0}" width="{w}" height="{h}" fill="white"/>']
     for t in xticks:
         out.append(f'<line x1="{px(t):.1f}" y1="{y0}" x2="{px(t):.1f}" y2="{y0 + h}" stroke="{GRID}"/>')
@@ -175,10 +190,11 @@ def panel(x0, y0, w, h, series, xticks, yticks, refs=(), size=11):
         placed.append((x + len(label) * size * 0.6, y))
         labels.append(text(x, y - 5, label, size, "start", REF,
                            'stroke="white" stroke-width="3" paint-order="stroke"'))
-    for color, pts in series:
+    for i, (color, pts) in enumerate(series):
         coords = " ".join(f"{px(x):.1f},{py(y):.1f}" for x, y in pts)
+        dash = ' stroke-dasharray="5 4"' if i in dashed else ""
         out.append(f'<polyline points="{coords}" fill="none" stroke="{color}" '
-                   f'stroke-width="2" stroke-linejoin="round"/>')
+                   f'stroke-width="2" stroke-linejoin="round"{dash}/>')
         if len(pts) <= 40:
             out.extend(f'<circle cx="{px(x):.1f}" cy="{py(y):.1f}" r="2.8" fill="{color}"/>'
                        for x, y in pts)
