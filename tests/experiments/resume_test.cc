@@ -1,7 +1,10 @@
 // A run stopped and resumed from a checkpoint gives the same metrics and
 // bit-identical evaluations as one never stopped; bad run directories and
 // corrupt checkpoints fail clearly without touching the logs.
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <functional>
@@ -290,6 +293,50 @@ TEST(ResumeTest, DamagedCheckpointsAreFoundAndTheNewestIntactOneIsUsed) {
   EXPECT_THROW(LatestCheckpoint(dir), Error);
   std::ofstream(dir / "config.yaml", std::ios::trunc) << config;
   EXPECT_EQ(Slurp(dir / "metrics.jsonl"), metrics);  // nothing lost
+  fs::remove_all(dir);
+}
+
+TEST(ResumeTest, AFullDiskDuringACheckpointKeepsTheLastGoodOneResumable) {
+  const fs::path dir = Scratch("full");
+  {
+    Trainer t = Trainer::Create(Tiny(dir));
+    TrainCallbacks stop;
+    stop.stop_after_step = 300;
+    ASSERT_FALSE(t.Run(stop).finished);
+  }
+  const fs::path good = dir / "checkpoints/step_000000000300";
+  // no file may grow past half the learner archive (RLIMIT_FSIZE, the
+  // failure a full disk gives: write() fails part-way): the logs stay far
+  // below that, the next checkpoint cannot be written
+  const auto limit = static_cast<rlim_t>(fs::file_size(good / "learner.pt") / 2);
+  ASSERT_LT(fs::file_size(dir / "metrics.jsonl") * 4, limit);
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_FSIZE, &old), 0);
+  rlimit small = old;
+  small.rlim_cur = limit;
+  std::string what;
+  {
+    Trainer t = Trainer::Resume(dir);
+    ASSERT_EQ(setrlimit(RLIMIT_FSIZE, &small), 0);
+    try {
+      t.Run();
+    } catch (const Error& e) {
+      what = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &old);
+  }
+  std::signal(SIGXFSZ, SIG_DFL);
+  EXPECT_NE(what.find("step_000000000600"), std::string::npos) << what;
+  // nothing partial is left; the last good checkpoint is the newest and intact
+  EXPECT_FALSE(fs::exists(dir / "checkpoints/.tmp_step_000000000600"));
+  EXPECT_FALSE(fs::exists(dir / "checkpoints/step_000000000600"));
+  EXPECT_EQ(ChooseCheckpoint(dir).dir, good);
+  {
+    Trainer t = Trainer::Resume(dir);
+    EXPECT_EQ(t.step(), 300);
+    ASSERT_TRUE(t.Run().finished);
+  }
   fs::remove_all(dir);
 }
 

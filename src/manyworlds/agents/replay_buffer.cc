@@ -474,6 +474,10 @@ void ReplayBuffer::SaveFile(const std::filesystem::path& path) const {
   } catch (const Error& e) {
     throw Error(path.string() + ": " + e.what());
   }
+  out.close();  // a full disk shows here at the latest
+  if (out.fail()) {
+    throw Error("cannot write replay buffer '" + path.string() + "' (disk full or I/O error)");
+  }
 }
 
 void ReplayBuffer::LoadFile(const std::filesystem::path& path) {

@@ -1,6 +1,9 @@
 #include "manyworlds/experiments/checkpoint_io.h"
 
+#include <sstream>
 #include <string>
+
+#include "manyworlds/core/atomic_file.h"
 
 #include "manyworlds/core/error.h"
 
@@ -14,13 +17,17 @@ std::string FirstLine(const std::string& text) { return text.substr(0, text.find
 
 void WriteArchive(const std::filesystem::path& file,
                   const std::function<void(torch::serialize::OutputArchive&)>& fill) {
+  // serialised in memory, then written with every error checked: torch's
+  // file writer throws from its destructor on a full disk (std::terminate)
+  std::ostringstream bytes;
   try {
     torch::serialize::OutputArchive archive;
     fill(archive);
-    archive.save_to(file.string());
+    archive.save_to(bytes);
   } catch (const std::exception& e) {
     throw Error("cannot write checkpoint '" + file.string() + "': " + FirstLine(e.what()));
   }
+  AtomicWriteFile(file, bytes.str());
 }
 
 void ReadArchive(const std::filesystem::path& file,

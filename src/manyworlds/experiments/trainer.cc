@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -55,11 +57,18 @@ std::string CheckpointName(int64_t step) {
   return name;
 }
 
+// Makes a written file (or a directory's entries) durable; Error naming the
+// path if the kernel reports a write-back failure (EIO, ENOSPC).
 void FsyncPath(const fs::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
-  if (fd < 0) return;
-  ::fsync(fd);
+  if (fd < 0) throw Error("cannot open '" + path.string() + "' to sync it: " + std::strerror(errno));
+  const int synced = ::fsync(fd);
+  const int error = errno;
   ::close(fd);
+  // directories on some file systems refuse fsync (EINVAL): nothing to report there
+  if (synced != 0 && !(directory && error == EINVAL)) {
+    throw Error("cannot sync '" + path.string() + "': " + std::strerror(error));
+  }
 }
 
 std::string ReadText(const fs::path& path) {
@@ -297,6 +306,16 @@ fs::path Trainer::Impl::SaveCheckpoint() {
   const fs::path tmp = dir / (".tmp_" + name);
   fs::remove_all(tmp);
   fs::create_directories(tmp);
+  // a failed write (full disk, I/O error) removes the partial checkpoint and
+  // leaves the previous one as the newest: the run resumes from there
+  struct RemoveUnlessDone {
+    const fs::path& dir;
+    bool done = false;
+    ~RemoveUnlessDone() {
+      std::error_code ignored;
+      if (!done) fs::remove_all(dir, ignored);
+    }
+  } cleanup{tmp};
   nlohmann::json state = {
       {"format", kCheckpointFormat},
       {"version", kCheckpointVersion},
@@ -318,6 +337,7 @@ fs::path Trainer::Impl::SaveCheckpoint() {
   FsyncPath(tmp, true);
   fs::remove_all(final_dir);
   fs::rename(tmp, final_dir);
+  cleanup.done = true;
   FsyncPath(dir, true);
   AtomicWriteFile(dir / kLatestFile, name + "\n");
 
