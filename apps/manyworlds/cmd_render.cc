@@ -11,6 +11,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
 #ifdef MANYWORLDS_HAS_RENDER
@@ -78,7 +79,7 @@ class FrameSource {
   int64_t rendered_ = 0;
 };
 
-void RunRender(const RenderArgs& args, const CommandContext& context) {
+void RunRender(const RenderArgs& args, CommandContext& context) {
   CheckPolicyName(args.policy);
   const sim::VideoFormat format = sim::VideoFormatForPath(args.out);
   const bool video = format == sim::VideoFormat::kMp4;
@@ -98,6 +99,8 @@ void RunRender(const RenderArgs& args, const CommandContext& context) {
                                                           : kUnlimitedCap;
   const int64_t steps = args.steps >= 0 ? args.steps : (video ? limit : 0);
 
+  // a signal stops the loop; the writer's destructor removes the temporary file
+  const StopSignals signals;
   FrameSource frames(*env, args);
   Observation obs = env->Reset();
   policy->BeginEpisode();
@@ -114,7 +117,7 @@ void RunRender(const RenderArgs& args, const CommandContext& context) {
   {
     std::optional<ProgressBar> progress;
     if (video) progress.emplace("render", steps, "steps", context.progress);
-    while (t < steps && !ended) {
+    while (t < steps && !ended && !StopSignals::received()) {
       policy->Act(obs.env_obs, obs.task_obs, action);
       StepResult r = env->Step(action);
       ++t;
@@ -126,6 +129,11 @@ void RunRender(const RenderArgs& args, const CommandContext& context) {
       if (video && (t % args.every == 0 || ended || t == steps)) writer.AddFrame(frames.Render());
       if (progress) progress->Advance();
     }
+  }
+  if (StopSignals::received()) {
+    std::cerr << "render: interrupted; " << args.out << " was not written\n";
+    context.exit_code = StopSignals::exit_code();
+    return;
   }
   if (!video) writer.AddFrame(t == 0 ? first : frames.Render());
   writer.Finish();
@@ -146,7 +154,7 @@ void RunRender(const RenderArgs& args, const CommandContext& context) {
 
 #else  // !MANYWORLDS_HAS_RENDER
 
-void RunRender(const RenderArgs&, const CommandContext&) {
+void RunRender(const RenderArgs&, CommandContext&) {
   throw Error(
       "this build cannot render: it was configured without MuJoCo or without OSMesa "
       "(Debian: apt-get install libmujoco-dev libosmesa6-dev, then run cmake again)");

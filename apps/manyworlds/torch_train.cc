@@ -17,6 +17,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
@@ -160,7 +161,7 @@ struct TrainArgs {
   int64_t stop_after = -1;
 };
 
-void RunTrain(const TrainArgs& args, const CommandContext& context) {
+void RunTrain(const TrainArgs& args, CommandContext& context) {
   std::optional<experiments::Trainer> trainer;
   if (!args.resume.empty()) {
     if (!args.positional.empty()) {
@@ -205,14 +206,19 @@ void RunTrain(const TrainArgs& args, const CommandContext& context) {
                 ", return " + Fixed(e.mean_return, 2));
   };
   if (args.stop_after >= 0) callbacks.stop_after_step = args.stop_after;
+  // Ctrl-C, SIGTERM, SIGHUP: finish the iteration, checkpoint, stop
+  const StopSignals signals;
+  callbacks.stop_requested = [] { return StopSignals::received() != 0; };
   const experiments::TrainSummary summary = trainer->Run(callbacks);
   status_line.reset();  // clears the status line
 
   if (summary.final_eval) PrintEvalTable(*summary.final_eval, std::cout);
   if (summary.final_meta_test) PrintMetaTestTable(*summary.final_meta_test, std::cout);
   if (!summary.finished) {
-    std::cerr << "train: stopped at step " << summary.step << " after its checkpoint; continue "
-              << "with `manyworlds train --resume " << run_dir << "`\n";
+    std::cerr << "train: " << (StopSignals::received() ? "interrupted; " : "") << "stopped at step "
+              << summary.step << " after its checkpoint; continue with `manyworlds train --resume "
+              << run_dir << "`\n";
+    if (StopSignals::received()) context.exit_code = StopSignals::exit_code();
     return;
   }
   std::cerr << "train: " << run_dir << ": " << summary.step << " steps per env, "

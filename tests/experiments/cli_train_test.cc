@@ -4,11 +4,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -155,6 +159,80 @@ TEST(CliTrainTest, StopAndResumeGiveTheUninterruptedNumbers) {
   const auto part = nlohmann::json::parse(RunCli("eval part --json", dir).out);
   EXPECT_EQ(full["per_task"], part["per_task"]);
   EXPECT_EQ(full["mean_return"], part["mean_return"]);
+  fs::remove_all(dir);
+}
+
+// The last step in a run's metrics log, or -1.
+int64_t LastLoggedStep(const fs::path& run) {
+  int64_t last = -1;
+  std::istringstream rows(Slurp(run / "metrics.jsonl"));
+  for (std::string line; std::getline(rows, line);) {
+    const auto row = nlohmann::json::parse(line, nullptr, false);
+    if (row.is_object() && row.contains("step")) last = row["step"].get<int64_t>();
+  }
+  return last;
+}
+
+// Runs `manyworlds ARGS...` in `dir`, sends `signal` once the run's metrics
+// log is past `after_step`, and returns the exit status (stderr to err.txt).
+int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& args,
+                         const fs::path& run, int64_t after_step, int signal) {
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    if (chdir(dir.c_str()) != 0 || !freopen("err.txt", "w", stderr)) _exit(99);
+    std::vector<char*> argv;
+    std::vector<std::string> all = {"manyworlds"};
+    all.insert(all.end(), args.begin(), args.end());
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(MANYWORLDS_CLI_PATH, argv.data());
+    _exit(98);
+  }
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (LastLoggedStep(run) <= after_step && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  kill(pid, signal);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return status;
+}
+
+// A signal while training: the iteration finishes, a checkpoint is written,
+// the program exits with 128 + the signal, leaving no temporary file, and
+// the run resumes from that checkpoint.
+TEST(CliTrainTest, SignalsStopTrainingAtACheckpoint) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  for (const int signal : {SIGINT, SIGTERM}) {
+    const std::string name = "run" + std::to_string(signal);
+    const fs::path run = dir / name;
+    // no periodic checkpoint before step 100,000: the one found is the signal's
+    int status = SignalDuringTraining(
+        dir, {"train", "tiny.yaml", "experiment.steps_per_task=1000000",
+              "experiment.checkpoint_every=100000", "experiment.run_dir=" + name},
+        run, 400, signal);
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal instead of stopping";
+    EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
+    EXPECT_NE(Slurp(dir / "err.txt").find("interrupted"), std::string::npos) << Slurp(dir / "err.txt");
+    // the last logged step has its checkpoint, and nothing temporary is left
+    const int64_t last = LastLoggedStep(run);
+    const std::string step = std::to_string(last);
+    const std::string checkpoint = "step_" + std::string(12 - step.size(), '0') + step;
+    EXPECT_TRUE(fs::exists(run / "checkpoints" / checkpoint / "state.json")) << checkpoint;
+    for (const auto& entry : fs::recursive_directory_iterator(run)) {
+      EXPECT_EQ(entry.path().filename().string().find(".tmp"), std::string::npos) << entry.path();
+    }
+    // resumed there, and stopped the same way again
+    status = SignalDuringTraining(dir, {"train", "--resume", name}, run, last + 100, signal);
+    ASSERT_TRUE(WIFEXITED(status));
+    EXPECT_EQ(WEXITSTATUS(status), 128 + signal);
+    EXPECT_NE(Slurp(dir / "err.txt").find("resuming " + name + " at step " + step),
+              std::string::npos)
+        << Slurp(dir / "err.txt");
+    EXPECT_GT(LastLoggedStep(run), last);
+  }
   fs::remove_all(dir);
 }
 

@@ -95,10 +95,14 @@ TEST(ResumeTest, ResumedRunMatchesAnUninterruptedOne) {
   fs::remove(b / "summary.json");
   fs::create_directories(b / "checkpoints/.tmp_step_000000000600");
   std::ofstream(b / "checkpoints/.tmp_step_000000000600/learner.pt") << "partial";
+  std::ofstream(b / ".metrics.csv.tmp.Ab12Cd") << "half a rewrite";
   ASSERT_EQ(LatestCheckpoint(b).filename(), "step_000000000300");
   {
     Trainer resumed = Trainer::Resume(b);
     EXPECT_EQ(resumed.step(), 300);
+    // what the killed writer left behind is gone
+    EXPECT_FALSE(fs::exists(b / "checkpoints/.tmp_step_000000000600"));
+    EXPECT_FALSE(fs::exists(b / ".metrics.csv.tmp.Ab12Cd"));
     // rows after the checkpoint are gone until the run writes them again
     EXPECT_EQ(Rows(b / "eval.jsonl").size(), 3u);
     const TrainSummary s = resumed.Run();

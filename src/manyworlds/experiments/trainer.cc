@@ -160,6 +160,26 @@ int64_t CheckpointStep(const fs::path& checkpoint) {
   throw Error("checkpoint '" + checkpoint.string() + "': state.json has no valid step");
 }
 
+// Removes what a killed writer left behind: hidden `.NAME.tmp.XXXXXX` files
+// (AtomicWriteFile) in the run and checkpoint directories and partial
+// `.tmp_step_*` checkpoints. Only under the run's lock: no writer is alive.
+void RemoveStaleTemporaries(const fs::path& run_dir) {
+  for (const fs::path& dir : {run_dir, RunPaths{run_dir}.checkpoints()}) {
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(dir, ec))) continue;
+    std::vector<fs::path> stale;
+    for (const auto& entry : fs::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string();
+      const bool temp_file = name.size() > 1 && name[0] == '.' &&
+                             name.find(".tmp.") != std::string::npos &&
+                             entry.is_regular_file(ec);
+      const bool temp_checkpoint = name.rfind(".tmp_step_", 0) == 0;
+      if (temp_file || temp_checkpoint) stale.push_back(entry.path());
+    }
+    for (const fs::path& p : stale) fs::remove_all(p, ec);
+  }
+}
+
 // Held-out tasks must present the spaces the policy was trained on.
 void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry) {
   const EnvFacts eval = InspectEnvs(eval_tasks, registry);
@@ -459,7 +479,8 @@ TrainSummary Trainer::Impl::Run(const TrainCallbacks& callbacks) {
       eval_log->Append(last_eval->ToJson());
       if (callbacks.on_eval) callbacks.on_eval(*last_eval);
     }
-    if (last || Due(prev, step, config.experiment.checkpoint_every)) {
+    const bool stop_now = callbacks.stop_requested && callbacks.stop_requested();
+    if (last || stop_now || Due(prev, step, config.experiment.checkpoint_every)) {
       // wall time so far, so that a resumed run keeps counting
       const double before = wall_before;
       wall_before += Seconds(Clock::now() - session_start);
@@ -467,6 +488,7 @@ TrainSummary Trainer::Impl::Run(const TrainCallbacks& callbacks) {
       wall_before = before;
       if (callbacks.on_checkpoint) callbacks.on_checkpoint(saved);
       if (callbacks.stop_after_step && step >= *callbacks.stop_after_step) stopped = true;
+      if (stop_now) stopped = true;
     }
     if (callbacks.on_round) callbacks.on_round(progress());
   }
@@ -552,6 +574,7 @@ Trainer Trainer::Create(const TrainConfig& config) {
 Trainer Trainer::Resume(const fs::path& run_dir, bool restart) {
   std::unique_ptr<RunLock> lock;
   if (fs::is_directory(run_dir)) lock = std::make_unique<RunLock>(run_dir);
+  if (lock) RemoveStaleTemporaries(run_dir);
   RunInfo info = RunInfo::Read(run_dir);
   auto impl = std::make_unique<Impl>();
   impl->lock = std::move(lock);

@@ -68,6 +68,9 @@ struct TrainCallbacks {
   // Stop (as if killed) after the first checkpoint at or past this step;
   // the run can be continued with Resume.
   std::optional<int64_t> stop_after_step;
+  // Polled after every iteration: true stops the run there, after a
+  // checkpoint (a signal handler's flag, a time budget).
+  std::function<bool()> stop_requested;
 };
 
 struct TrainSummary {

@@ -188,11 +188,16 @@ void VideoWriter::Finish() {
   if (status != 0) {
     Fail(status < 0 ? "ffmpeg was killed" : "ffmpeg exited with status " + std::to_string(status));
   }
+  // ffmpeg runs with -loglevel error, so anything it said is an error; some
+  // (a failed write of the trailer on a full disk) still end with status 0
+  if (const std::string log = Tail(log_, 5); !log.empty()) Fail("ffmpeg reported an error");
   // the data must be on disk before the name points at it
-  if (const int fd = open(temp_path_.c_str(), O_RDONLY); fd >= 0) {
-    fsync(fd);
-    close(fd);
-  }
+  const int fd = open(temp_path_.c_str(), O_RDONLY);
+  if (fd < 0) Fail("ffmpeg wrote no file");
+  const bool synced = fsync(fd) == 0;
+  const std::string sync_error = synced ? "" : Errno();
+  close(fd);
+  if (!synced) Fail("cannot sync '" + temp_path_ + "': " + sync_error);
   if (std::rename(temp_path_.c_str(), path_.c_str()) != 0) {
     Fail("cannot rename the temporary file '" + temp_path_ + "': " + Errno());
   }
