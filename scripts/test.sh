@@ -2,7 +2,8 @@
 # Installs dependencies, builds everything with tests (Release) and runs the
 # whole test suite: the C++ tests (ctest), then the Python package's tests
 # (scripts/python_test.sh: virtual environment .venv-py/, `pip install .`,
-# pytest; its determinism test compares with the program built here).
+# pytest; its determinism test compares with the program built here), then
+# 20 seconds of each libFuzzer target (scripts/fuzz.sh, clang + ASan/UBSan).
 # Idempotent; MANYWORLDS_BUILD_DIR picks another build directory (default
 # build/). Exits non-zero if either suite fails; both always run.
 set -euo pipefail
@@ -17,7 +18,10 @@ ctest --test-dir "$build_dir" --output-on-failure -j2 || cpp_status=$?
 case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
 py_status=0
 MANYWORLDS_CLI="$cli" bash scripts/python_test.sh || py_status=$?
-if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ]; then
-  echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status" >&2
+fuzz_status=0
+bash scripts/fuzz.sh || fuzz_status=$?
+if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ] || [ "$fuzz_status" -ne 0 ]; then
+  echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status," \
+       "fuzzing exit code $fuzz_status" >&2
   exit 1
 fi

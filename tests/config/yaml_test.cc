@@ -93,6 +93,11 @@ TEST(YamlTest, HostileInputIsAConfigErrorNotACrash) {
     return "";
   };
   EXPECT_NE(error_of("a: &x [1, *x]").find("deeper than 64"), std::string::npos);
+  // NULs made yaml-cpp decode the text as UTF-16 (found by fuzz/yaml_fuzz.cc)
+  EXPECT_NE(error_of(std::string("a\0\0nb: 1\n", 9)).find("NUL byte"), std::string::npos);
+  // a key too long to be written back as an implicit key (fuzz/yaml_fuzz.cc)
+  EXPECT_NE(error_of("'" + std::string(500, 'k') + "': 1").find("longer than 256"),
+            std::string::npos);
   std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
   for (char c = 'b'; c <= 'j'; ++c) {
     bomb += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" +

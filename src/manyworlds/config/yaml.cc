@@ -46,6 +46,7 @@ std::optional<bool> AsBool(const std::string& s) {
 // "billion laughs" document could exhaust memory.
 constexpr size_t kMaxNumberChars = 400;  // longer plain scalars are strings
 constexpr int kMaxDepth = 64;
+constexpr size_t kMaxKeyChars = 256;
 constexpr int64_t kMaxNodes = 1000000;
 
 // A scalar cut for an error message.
@@ -211,6 +212,13 @@ nlohmann::json Convert(const YAML::Node& node, std::string_view source, int dept
       for (const auto& entry : node) {
         if (!entry.first.IsScalar()) Fail(source, entry.first.Mark(), "map keys must be scalars");
         const std::string& key = entry.first.Scalar();
+        // YAML's implicit keys end at 1024 characters, so a longer one could
+        // not be written back; no config needs a key anywhere near that long
+        if (key.size() > kMaxKeyChars) {
+          Fail(source, entry.first.Mark(),
+               "key '" + Shown(key) + "' is longer than " + std::to_string(kMaxKeyChars) +
+                   " characters");
+        }
         if (object.contains(key)) {
           Fail(source, entry.first.Mark(), "duplicate key '" + Shown(key) + "'");
         }
@@ -307,6 +315,12 @@ void EmitSequence(const nlohmann::json& array, int indent, std::string& out) {
 nlohmann::json ParseYaml(std::string_view text, std::string_view source) {
   if (const size_t bad = InvalidUtf8(text); bad != std::string_view::npos) {
     throw ConfigError(std::string(source) + ": not valid UTF-8 (byte " + std::to_string(bad) +
+                      "); configs must be UTF-8 text");
+  }
+  // a NUL is never part of a text config, and yaml-cpp takes NULs near the
+  // start as a sign of UTF-16 or UTF-32 and decodes the bytes as such
+  if (const size_t nul = text.find('\0'); nul != std::string_view::npos) {
+    throw ConfigError(std::string(source) + ": contains a NUL byte (byte " + std::to_string(nul) +
                       "); configs must be UTF-8 text");
   }
   YAML::Node root;

@@ -181,8 +181,9 @@ Options Registry::ResolveOptions(std::string_view id, const nlohmann::json& give
   for (const auto& o : registration.options) resolved[o.name] = o.default_value;
   if (given.is_object()) {
     for (const auto& [key, value] : given.items()) {
+      const std::string& name = key;  // clang 14 cannot capture a structured binding
       auto spec = std::find_if(registration.options.begin(), registration.options.end(),
-                               [&](const OptionSpec& o) { return o.name == key; });
+                               [&](const OptionSpec& o) { return o.name == name; });
       if (spec == registration.options.end()) {
         std::string all;
         for (const auto& n : names) all += (all.empty() ? "" : ", ") + n;
