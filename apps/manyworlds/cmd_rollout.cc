@@ -125,7 +125,8 @@ void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
                   "policy: random, scripted (manipulation tasks and benchmarks), or "
                   "checkpoint:RUN_DIR (a trained run's latest checkpoint, or "
                   "checkpoint:RUN_DIR/checkpoints/step_N; deterministic actions on every task "
-                  "of the run)")
+                  "of the run; for a meta-RL run, --episodes trials per held-out task of its "
+                  "exploration episodes, adaptation and adapted episodes)")
       ->capture_default_str();
   cmd->add_option("--episodes", args->episodes, "number of episodes (>= 1); for a benchmark, the first N variations of each task")
       ->capture_default_str()

@@ -7,12 +7,14 @@
 // stderr gets a progress line when it is a terminal or with --progress.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "apps/manyworlds/cli_util.h"
@@ -304,6 +306,59 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
   PrintEvalTable(result, std::cout);
 }
 
+// A meta-RL run (one with held-out tasks): `trials` trials per held-out
+// task, each of the run's exploration episodes, adaptation, then its
+// evaluation episodes, one row per episode.
+void RolloutMetaLearner(const experiments::RunInfo& run, const fs::path& run_dir,
+                        const fs::path& checkpoint, int trials, uint64_t seed, bool json) {
+  const experiments::MetaTestResult result =
+      experiments::MetaTestCheckpointEpisodes(run, checkpoint, trials, seed);
+  auto success = [](const std::optional<bool>& s) {
+    return s ? nlohmann::json(*s) : nlohmann::json();
+  };
+  if (json) {
+    nlohmann::json episodes = nlohmann::json::array();
+    for (const auto& e : result.episodes) {
+      episodes.push_back({{"task", e.task},
+                          {"trial", e.trial},
+                          {"phase", e.evaluation ? "evaluation" : "exploration"},
+                          {"episode", e.index},
+                          {"return", e.episode_return},
+                          {"length", e.length},
+                          {"success", success(e.success)}});
+    }
+    PrintJson({{"checkpoint", checkpoint.string()},
+               {"step", result.step},
+               {"seed", seed},
+               {"episodes", episodes},
+               {"meta_test", result.ToJson()}});
+    return;
+  }
+  std::vector<experiments::MetaTestEpisode> rows = result.episodes;
+  std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+    return std::tie(a.task, a.trial, a.evaluation, a.index) <
+           std::tie(b.task, b.trial, b.evaluation, b.index);
+  });
+  Table table({"held-out task", ">trial", "phase", ">episode", ">return", ">length", "success"});
+  for (const auto& e : rows) {
+    table.AddRow({e.task, std::to_string(e.trial), e.evaluation ? "adapted" : "explore",
+                  std::to_string(e.index), Fixed(e.episode_return, 3), std::to_string(e.length),
+                  e.success ? (*e.success ? "yes" : "no") : "-"});
+  }
+  table.Print(std::cout);
+  std::cout << run_dir.string() << " (" << checkpoint.filename().string() << ", step "
+            << result.step << "): " << trials << " trial(s) per held-out task of "
+            << result.config.exploration_episodes << " exploration + "
+            << result.config.evaluation_episodes << " adapted episodes; return "
+            << Fixed(result.pre_adaptation_return, 3) << " before, " << Fixed(result.mean_return, 3)
+            << " after adaptation";
+  if (result.success_rate) {
+    std::cout << ", success " << Success(result.pre_adaptation_success_rate) << " before, "
+              << Success(result.success_rate) << " after";
+  }
+  std::cout << "\n";
+}
+
 }  // namespace
 
 void RunCheckpointRollout(const std::string& path, const std::string& env_id, int episodes,
@@ -324,6 +379,10 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
     throw ConfigError("rollout: --env '" + env_id + "' is not the env of run '" +
                       run_dir.string() + "' ('" + run.config.env.id +
                       "'); leave --env out to use the run's");
+  }
+  if (run.eval_tasks) {
+    RolloutMetaLearner(run, run_dir, checkpoint, episodes, seed, json);
+    return;
   }
   const EvalResult result = experiments::EvaluateCheckpoint(run, checkpoint, episodes, seed);
   if (json) {

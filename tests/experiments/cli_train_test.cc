@@ -381,6 +381,16 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
   const auto baselines = nlohmann::json::parse(r.out);
   EXPECT_EQ(baselines["tasks"], 200);  // the held-out bandits
   EXPECT_EQ(baselines["baselines"].size(), 4u);
+  // rollout of a meta-learner: whole trials on held-out bandits, one row per
+  // episode (bandit_rl2: no exploration phase, 10 evaluation pulls)
+  r = RunCli("rollout --policy checkpoint:runs/rl2 --episodes 3 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto rollout = nlohmann::json::parse(r.out);
+  ASSERT_EQ(rollout["episodes"].size(), 3u * 10u);
+  for (const auto& e : rollout["episodes"]) EXPECT_EQ(e["phase"], "evaluation");
+  r = RunCli("rollout --policy checkpoint:runs/rl2 --episodes 1", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("after adaptation"), std::string::npos) << r.out;
   // a run without held-out tasks, and a multi-task-only flag
   ASSERT_EQ(RunCli("train '" + config + "' experiment.steps_per_task=20 eval_env=null " +
                        "experiment.run_dir=runs/plain",

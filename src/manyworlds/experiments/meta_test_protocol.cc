@@ -146,6 +146,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
   // [phase][task]; phase 0 = exploration, 1 = evaluation
   std::vector<std::vector<PhaseTotals>> totals(2, std::vector<PhaseTotals>(num_tasks));
   EpisodeTracker tracker(n, info_size, facts_.success_index);
+  std::vector<MetaTestEpisode> episodes;
   std::vector<int64_t> episodes_done(n);
   torch::Tensor waiting = torch::zeros({n}, torch::kBool);
   bool* waiting_flags = waiting.data_ptr<bool>();
@@ -208,6 +209,9 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
         Freeze(state, before, waiting);
         tracker.Step(rewards, terminated, truncated, exec_->info(), [&](const EpisodeRecord& r) {
           if (waiting_flags[r.env]) return;  // past its episodes of this phase
+          episodes.push_back({tasks_.tasks[r.env / slots_].name, first + r.env % slots_,
+                              phase == 1, episodes_done[r.env], r.episode_return, r.length,
+                              has_success ? std::optional<bool>(r.success) : std::nullopt});
           PhaseTotals& p = totals[phase][r.env / slots_];
           p.returns += r.episode_return;
           p.successes += r.success ? 1.0 : 0.0;
@@ -250,6 +254,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
       result.pre_adaptation_success_rate = pre_success_sum / num_tasks;
     }
   }
+  result.episodes = std::move(episodes);
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -48,6 +48,17 @@ struct MetaTestTaskResult {
   double trial_return = 0.0;          // mean total return of a trial
 };
 
+// One episode of a meta-test trial.
+struct MetaTestEpisode {
+  std::string task;
+  int64_t trial = 0;     // the trial's index within its task
+  bool evaluation = false;  // false: exploration (before adaptation)
+  int64_t index = 0;     // within its phase
+  double episode_return = 0.0;
+  int64_t length = 0;
+  std::optional<bool> success;
+};
+
 struct MetaTestResult {
   int64_t step = 0;
   MetaTestConfig config;
@@ -58,6 +69,8 @@ struct MetaTestResult {
   double pre_adaptation_return = 0.0;
   double trial_return = 0.0;
   double wall_s = 0.0;
+  // Every episode, in the order they ended (not part of ToJson).
+  std::vector<MetaTestEpisode> episodes;
 
   // {"step", "success_rate", "return", "pre_adaptation_success_rate",
   //  "pre_adaptation_return", "trial_return", "exploration_episodes",

@@ -195,8 +195,10 @@ void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Regi
 
 }  // namespace
 
-nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
-                                  std::optional<uint64_t> seed) {
+namespace {
+
+MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
+                             const MetaTestConfig& config, uint64_t seed) {
   if (!run.eval_tasks) {
     throw ConfigError("meta-test needs held-out tasks, and this run has none: train with an "
                       "eval_env section (e.g. eval_env: {options: {split: test}} for ML1/ML10, "
@@ -207,12 +209,27 @@ nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint
   CheckEvalTasks(*run.eval_tasks, facts, registry);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
   algorithm->LoadPolicy(checkpoint);
-  MetaTestProtocol protocol(*run.eval_tasks, registry, run.config.meta_test,
-                            seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
+  MetaTestProtocol protocol(*run.eval_tasks, registry, config, seed,
                             run.config.experiment.num_threads);
   MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
   result.step = CheckpointStep(checkpoint);
-  return result.ToJson();
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
+                                  std::optional<uint64_t> seed) {
+  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
+                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream))
+      .ToJson();
+}
+
+MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& checkpoint,
+                                          int64_t trials, uint64_t seed) {
+  MetaTestConfig config = run.config.meta_test;
+  config.trials_per_task = trials;
+  return RunMetaTestOn(run, checkpoint, config, seed);
 }
 
 std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,

@@ -47,6 +47,7 @@
 #include <nlohmann/json.hpp>
 
 #include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/meta_test_protocol.h"
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
@@ -122,6 +123,11 @@ EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& c
 // (no held-out tasks), Error on a corrupt checkpoint.
 nlohmann::json MetaTestCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
                                   std::optional<uint64_t> seed = std::nullopt);
+// The same protocol with `trials` trials per held-out task instead of the
+// config's trials_per_task, every episode kept (rollout of a meta-learner).
+MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run,
+                                          const std::filesystem::path& checkpoint,
+                                          int64_t trials, uint64_t seed);
 
 class Trainer {
  public:
