@@ -54,9 +54,11 @@ std::string OptionalFixed(const nlohmann::json& v, int digits) {
   return v.is_number() ? Fixed(v.get<double>(), digits) : std::string("-");
 }
 
-// The meta-test result (MetaTestResult::ToJson) as a table.
-void PrintMetaTestTable(const nlohmann::json& m, std::ostream& out) {
-  Table table({"test task", ">success", ">return", ">success before", ">return before",
+// A meta-test result (MetaTestResult::ToJson) as a table; `what` is
+// "meta-test" (held-out tasks) or "meta-train" (training tasks).
+void PrintMetaTestTable(const nlohmann::json& m, std::ostream& out,
+                        const std::string& what = "meta-test") {
+  Table table({what == "meta-test" ? "test task" : "train task", ">success", ">return", ">success before", ">return before",
                ">trial return"});
   for (const auto& [name, t] : m["per_task"].items()) {
     table.AddRow({name, OptionalFixed(t["success"], 2), OptionalFixed(t["return"], 2),
@@ -67,7 +69,7 @@ void PrintMetaTestTable(const nlohmann::json& m, std::ostream& out) {
   table.AddRow({"mean", OptionalFixed(m["success_rate"], 2), OptionalFixed(m["return"], 2),
                 OptionalFixed(m["pre_adaptation_success_rate"], 2),
                 OptionalFixed(m["pre_adaptation_return"], 2), OptionalFixed(m["trial_return"], 2)});
-  out << "meta-test: " << m["trials_per_task"].get<int64_t>() << " trials per task of "
+  out << what << ": " << m["trials_per_task"].get<int64_t>() << " trials per task of "
       << m["exploration_episodes"].get<int64_t>() << " exploration + "
       << m["evaluation_episodes"].get<int64_t>() << " evaluation episodes\n";
   table.Print(out);
@@ -215,6 +217,9 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
   status_line.reset();  // clears the status line
 
   if (summary.final_eval) PrintEvalTable(*summary.final_eval, std::cout);
+  if (summary.final_meta_train) {
+    PrintMetaTestTable(*summary.final_meta_train, std::cout, "meta-train");
+  }
   if (summary.final_meta_test) PrintMetaTestTable(*summary.final_meta_test, std::cout);
   if (!summary.finished) {
     std::cerr << "train: " << (StopSignals::received() ? "interrupted; " : "") << "stopped at step "
@@ -271,22 +276,25 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
 void RunEval(const EvalArgs& args, const CommandContext& context) {
   const experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
   const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
-  if (args.protocol == "meta-test") {
+  if (args.protocol == "meta-test" || args.protocol == "meta-train") {
+    const bool test = args.protocol == "meta-test";
     if (args.episodes > 0) {
-      throw ConfigError("eval: --episodes is for the multi-task protocol; the meta-test's "
-                        "episodes are the run's meta_test section");
+      throw ConfigError("eval: --episodes is for the multi-task protocol; the " + args.protocol +
+                        " episodes are the run's meta_test section");
     }
     if (context.progress || isatty(STDERR_FILENO)) {
-      std::cerr << "eval: " << checkpoint.string() << ", meta-test on held-out tasks\n";
+      std::cerr << "eval: " << checkpoint.string() << ", " << args.protocol << " on "
+                << (test ? "held-out" : "training") << " tasks\n";
     }
-    nlohmann::json result = experiments::MetaTestCheckpoint(run, checkpoint);
+    nlohmann::json result = test ? experiments::MetaTestCheckpoint(run, checkpoint)
+                                 : experiments::MetaTrainCheckpoint(run, checkpoint);
     if (args.json) {
-      PrintJson({{"checkpoint", checkpoint.string()}, {"meta_test", result}});
+      PrintJson({{"checkpoint", checkpoint.string()}, {test ? "meta_test" : "meta_train", result}});
       return;
     }
     std::cout << "checkpoint " << checkpoint.filename().string() << " (step "
               << result["step"].get<int64_t>() << ")\n";
-    PrintMetaTestTable(result, std::cout);
+    PrintMetaTestTable(result, std::cout, args.protocol);
     return;
   }
   const int64_t episodes =
@@ -448,7 +456,7 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd = app.add_subcommand(
       "eval", "Evaluate a saved run: per-task success rate and return, by the multi-task "
-              "protocol or (--protocol meta-test) the meta-test protocol");
+              "protocol or (--protocol meta-test|meta-train) the meta-test protocol");
   cmd->add_option("run_dir", args->run_dir, "the run directory")->required();
   cmd->add_option("--episodes", args->episodes,
                   "episodes per task (default: the run's experiment.eval_episodes)")
@@ -458,12 +466,14 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--protocol", args->protocol,
                   "multi-task: the training tasks, deterministic episodes; meta-test: the "
                   "run's held-out tasks (eval_env), exploration episodes, adaptation, "
-                  "evaluation episodes (meta_test section)")
-      ->check(CLI::IsMember({"multi-task", "meta-test"}))
+                  "evaluation episodes (meta_test section); meta-train: the same protocol on "
+                  "the training tasks")
+      ->check(CLI::IsMember({"multi-task", "meta-test", "meta-train"}))
       ->capture_default_str();
   cmd->add_flag("--json", args->json,
                 "print JSON ({per_task, mean_success, mean_return, ...}; with meta-test "
-                "{meta_test: {success_rate, per_task, pre_adaptation_success_rate, ...}}) "
+                "{meta_test: {success_rate, per_task, pre_adaptation_success_rate, ...}}, "
+                "with meta-train {meta_train: {...}}) "
                 "instead of a table");
   cmd->callback([args, &context] { RunEval(*args, context); });
 }

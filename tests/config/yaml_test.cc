@@ -98,6 +98,7 @@ TEST(YamlTest, HostileInputIsAConfigErrorNotACrash) {
   // a key too long to be written back as an implicit key (fuzz/yaml_fuzz.cc)
   EXPECT_NE(error_of("'" + std::string(500, 'k') + "': 1").find("longer than 256"),
             std::string::npos);
+  EXPECT_NE(error_of("\"a\\x02b\": 1").find("control character"), std::string::npos);
   std::string bomb = "a: &a [x, x, x, x, x, x, x, x, x, x]\n";
   for (char c = 'b'; c <= 'j'; ++c) {
     bomb += std::string(1, c) + ": &" + c + " [*" + char(c - 1) + ", *" + char(c - 1) + ", *" +

@@ -365,6 +365,7 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
                        dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("meta-test: 20 trials per task"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("meta-train: 20 trials per task"), std::string::npos) << r.out;
   r = RunCli("eval runs/rl2 --protocol meta-test --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto json = nlohmann::json::parse(r.out)["meta_test"];
@@ -376,6 +377,15 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
   const auto summary = nlohmann::json::parse(Slurp(dir / "runs" / "rl2" / "summary.json"));
   EXPECT_DOUBLE_EQ(json["trial_return"].get<double>(),
                    summary["final_meta_test"]["trial_return"].get<double>());
+  // meta-train: the same protocol on the training bandits, as logged in training
+  r = RunCli("eval runs/rl2 --protocol meta-train --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto train = nlohmann::json::parse(r.out)["meta_train"];
+  EXPECT_EQ(train["trials_per_task"], 20);
+  EXPECT_DOUBLE_EQ(train["trial_return"].get<double>(),
+                   summary["final_meta_train"]["trial_return"].get<double>());
+  EXPECT_NE(train["trial_return"], json["trial_return"]);
+  EXPECT_TRUE(fs::exists(dir / "runs" / "rl2" / "meta_train.jsonl"));
   r = RunCli("baselines bandit runs/rl2 --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto baselines = nlohmann::json::parse(r.out);
@@ -400,6 +410,7 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
   for (const std::string& bad : {std::string("eval runs/plain --protocol meta-test"),
                                  std::string("eval runs/rl2 --protocol meta-test --episodes 2"),
                                  std::string("eval runs/rl2 --protocol meta"),
+                                 std::string("eval runs/plain --protocol meta-train"),
                                  std::string("baselines bandit runs/nothing")}) {
     r = RunCli(bad, dir);
     EXPECT_EQ(r.exit_code, 2) << bad;

@@ -167,6 +167,16 @@ void ExpectExactResume(const std::string& config_file, std::vector<std::string> 
   }
   EXPECT_EQ(ea, eb);
   ASSERT_GE(ea.size(), 2u);
+  // meta-RL runs: the meta-test and meta-train logs resume exactly too
+  for (const char* log : {"meta_test.jsonl", "meta_train.jsonl"}) {
+    if (!fs::exists(a / log)) continue;
+    std::vector<nlohmann::json> ma = ReadJsonLines(a / log), mb = ReadJsonLines(b / log);
+    for (auto* rows : {&ma, &mb}) {
+      for (auto& row : *rows) row.erase("wall_s");
+    }
+    EXPECT_EQ(ma, mb) << log;
+    EXPECT_EQ(ma.size(), ea.size()) << log;
+  }
 }
 
 TEST(OnPolicyResumeTest, PpoResumesExactly) {

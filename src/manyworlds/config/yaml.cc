@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -218,6 +219,12 @@ nlohmann::json Convert(const YAML::Node& node, std::string_view source, int dept
           Fail(source, entry.first.Mark(),
                "key '" + Shown(key) + "' is longer than " + std::to_string(kMaxKeyChars) +
                    " characters");
+        }
+        // control characters are written back escaped (\u0002: six characters
+        // each), which could push a key past that limit; no key needs one
+        if (std::any_of(key.begin(), key.end(),
+                        [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; })) {
+          Fail(source, entry.first.Mark(), "key '" + Shown(key) + "' contains a control character");
         }
         if (object.contains(key)) {
           Fail(source, entry.first.Mark(), "duplicate key '" + Shown(key) + "'");

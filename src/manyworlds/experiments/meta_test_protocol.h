@@ -36,8 +36,10 @@
 
 namespace manyworlds::experiments {
 
-// Seed stream of meta-test trials (mixed with the run seed).
-inline constexpr uint64_t kMetaTestSeedStream = 0x6d657461;  // "meta"
+// Seed streams of meta-test trials on the held-out tasks and of meta-train
+// trials (the same protocol on the training tasks), mixed with the run seed.
+inline constexpr uint64_t kMetaTestSeedStream = 0x6d657461;   // "meta"
+inline constexpr uint64_t kMetaTrainSeedStream = 0x6d747261;  // "mtra"
 
 struct MetaTestTaskResult {
   std::string task;

@@ -113,7 +113,8 @@ nlohmann::json TrainSummary::ToJson() const {
           {"env_steps_per_s", env_steps_per_s},
           {"updates_per_s", updates_per_s},
           {"final_eval", OptionalEval(final_eval)},
-          {"final_meta_test", final_meta_test ? *final_meta_test : nlohmann::json(nullptr)}};
+          {"final_meta_test", final_meta_test ? *final_meta_test : nlohmann::json(nullptr)},
+          {"final_meta_train", final_meta_train ? *final_meta_train : nlohmann::json(nullptr)}};
 }
 
 fs::path LatestCheckpoint(const fs::path& run_dir) { return ChooseCheckpoint(run_dir).dir; }
@@ -198,9 +199,10 @@ void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Regi
 namespace {
 
 MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
-                             const MetaTestConfig& config, uint64_t seed) {
+                             const MetaTestConfig& config, uint64_t seed, bool on_training_tasks) {
   if (!run.eval_tasks) {
-    throw ConfigError("meta-test needs held-out tasks, and this run has none: train with an "
+    throw ConfigError(std::string(on_training_tasks ? "meta-train" : "meta-test") +
+                      " needs held-out tasks, and this run has none: train with an "
                       "eval_env section (e.g. eval_env: {options: {split: test}} for ML1/ML10, "
                       "or eval_env: {task_seed: 1} for a sampled task distribution)");
   }
@@ -209,8 +211,8 @@ MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
   CheckEvalTasks(*run.eval_tasks, facts, registry);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
   algorithm->LoadPolicy(checkpoint);
-  MetaTestProtocol protocol(*run.eval_tasks, registry, config, seed,
-                            run.config.experiment.num_threads);
+  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config,
+                            seed, run.config.experiment.num_threads);
   MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
   result.step = CheckpointStep(checkpoint);
   return result;
@@ -221,7 +223,16 @@ MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
 nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
                                   std::optional<uint64_t> seed) {
   return RunMetaTestOn(run, checkpoint, run.config.meta_test,
-                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream))
+                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
+                       /*on_training_tasks=*/false)
+      .ToJson();
+}
+
+nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const fs::path& checkpoint,
+                                   std::optional<uint64_t> seed) {
+  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
+                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTrainSeedStream),
+                       /*on_training_tasks=*/true)
       .ToJson();
 }
 
@@ -229,7 +240,7 @@ MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& ch
                                           int64_t trials, uint64_t seed) {
   MetaTestConfig config = run.config.meta_test;
   config.trials_per_task = trials;
-  return RunMetaTestOn(run, checkpoint, config, seed);
+  return RunMetaTestOn(run, checkpoint, config, seed, /*on_training_tasks=*/false);
 }
 
 std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
@@ -273,10 +284,13 @@ struct Trainer::Impl {
   std::unique_ptr<Evaluator> evaluator;
   std::optional<TaskSet> eval_tasks;
   std::unique_ptr<MetaTestProtocol> meta_test;
+  std::unique_ptr<MetaTestProtocol> meta_train;  // the same protocol on the training tasks
   std::unique_ptr<RunLog> metrics_log;
   std::unique_ptr<RunLog> eval_log;
   std::unique_ptr<RunLog> meta_test_log;
-  std::optional<nlohmann::json> last_meta_test;  // this session's
+  std::unique_ptr<RunLog> meta_train_log;
+  std::optional<nlohmann::json> last_meta_test;   // this session's
+  std::optional<nlohmann::json> last_meta_train;  // this session's
   std::vector<std::string> warnings;              // found by Resume
 
   // counters (checkpointed)
@@ -322,6 +336,9 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
     meta_test = std::make_unique<MetaTestProtocol>(
         *eval_tasks, registry, config.meta_test,
         MixSeed(config.experiment.seed, kMetaTestSeedStream), config.experiment.num_threads);
+    meta_train = std::make_unique<MetaTestProtocol>(
+        tasks, registry, config.meta_test, MixSeed(config.experiment.seed, kMetaTrainSeedStream),
+        config.experiment.num_threads);
   }
 }
 
@@ -333,6 +350,10 @@ EvalResult Trainer::Impl::Evaluate() {
     meta.step = step;
     last_meta_test = meta.ToJson();
     meta_test_log->Append(*last_meta_test);
+    MetaTestResult train = meta_train->RunMetaTest(algorithm->actor());
+    train.step = step;
+    last_meta_train = train.ToJson();
+    meta_train_log->Append(*last_meta_train);
   }
   return result;
 }
@@ -553,6 +574,7 @@ TrainSummary Trainer::Impl::Run(const TrainCallbacks& callbacks) {
   summary.updates_per_s = p.updates_per_s;
   summary.final_eval = last_eval;
   summary.final_meta_test = last_meta_test;
+  summary.final_meta_train = last_meta_train;
   if (summary.finished) {
     nlohmann::json json = summary.ToJson();
     json["run_dir"] = paths.dir.string();
@@ -617,6 +639,8 @@ Trainer Trainer::Create(const TrainConfig& config) {
   if (impl->eval_tasks) {
     impl->meta_test_log = std::make_unique<RunLog>(run_dir, "meta_test");
     impl->meta_test_log->TruncateAfter(0);
+    impl->meta_train_log = std::make_unique<RunLog>(run_dir, "meta_train");
+    impl->meta_train_log->TruncateAfter(0);
   }
   return Trainer(std::move(impl));
 }
@@ -673,6 +697,8 @@ Trainer Trainer::Resume(const fs::path& run_dir, bool restart) {
   if (impl->eval_tasks) {
     impl->meta_test_log = std::make_unique<RunLog>(run_dir, "meta_test");
     impl->meta_test_log->TruncateAfter(impl->step);
+    impl->meta_train_log = std::make_unique<RunLog>(run_dir, "meta_train");
+    impl->meta_train_log->TruncateAfter(impl->step);
   }
   return Trainer(std::move(impl));
 }

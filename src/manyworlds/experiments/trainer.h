@@ -82,8 +82,11 @@ struct TrainSummary {
   double env_steps_per_s = 0.0;
   double updates_per_s = 0.0;
   std::optional<EvalResult> final_eval;
-  // The last meta-test (MetaTestResult::ToJson) of runs with an eval_env.
+  // The last meta-test (MetaTestResult::ToJson) of runs with an eval_env,
+  // and the last meta-train: the same protocol on the training tasks
+  // (Meta-World's "meta-train success": after adaptation).
   std::optional<nlohmann::json> final_meta_test;
+  std::optional<nlohmann::json> final_meta_train;
   nlohmann::json ToJson() const;
 };
 
@@ -123,6 +126,10 @@ EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& c
 // (no held-out tasks), Error on a corrupt checkpoint.
 nlohmann::json MetaTestCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
                                   std::optional<uint64_t> seed = std::nullopt);
+// The same protocol on the run's training tasks (meta-train success, as
+// logged during training). Same errors.
+nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
+                                   std::optional<uint64_t> seed = std::nullopt);
 // The same protocol with `trials` trials per held-out task instead of the
 // config's trials_per_task, every episode kept (rollout of a meta-learner).
 MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run,
