@@ -84,10 +84,12 @@ TEST(TabularMdpBaselinesTest, BadInputIsRefusedWithTheReason) {
   EXPECT_THROW(RunTabularMdpBaseline("ucrl2", {ok}, 10, 10, 1, 1), ConfigError);
   EXPECT_THROW(RunTabularMdpBaseline("random", {}, 10, 10, 1, 1), ConfigError);
   EXPECT_THROW(RunTabularMdpBaseline("random", {ok}, 0, 10, 1, 1), ConfigError);
-  EXPECT_THROW(RunTabularMdpBaseline("random", {TabularMdp{1, 2, {0.5, 1.5}, {1.0, 1.0}}}, 10, 10, 1, 1),
-               ConfigError);
-  EXPECT_THROW(RunTabularMdpBaseline("random", {TabularMdp{1, 2, {0.5, 0.5}, {1.0, 0.5}}}, 10, 10, 1, 1),
-               ConfigError);
+  EXPECT_THROW(
+      RunTabularMdpBaseline("random", {TabularMdp{1, 2, {0.5, 1.5}, {1.0, 1.0}}}, 10, 10, 1, 1),
+      ConfigError);
+  EXPECT_THROW(
+      RunTabularMdpBaseline("random", {TabularMdp{1, 2, {0.5, 0.5}, {1.0, 0.5}}}, 10, 10, 1, 1),
+      ConfigError);
   EXPECT_THROW(RunTabularMdpBaseline("random", {ok, TabularMdp{1, 1, {0.5}, {1.0}}}, 10, 10, 1, 1),
                ConfigError);
 }

@@ -1,12 +1,11 @@
 // A run resumes only with the thread counts its checkpoint was written
 // with (a product's rounding depends on them); its own binary because
 // nn::SetThreads is process-wide.
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <string>
-
-#include <gtest/gtest.h>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/trainer.h"

@@ -3,16 +3,15 @@
 // is an error that leaves neither the file nor its temporary behind.
 #include "manyworlds/sim/video.h"
 
+#include <gtest/gtest.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <unistd.h>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
@@ -25,8 +24,8 @@ namespace fs = std::filesystem;
 bool HaveFfmpeg() { return std::system("ffmpeg -version > /dev/null 2>&1") == 0; }
 
 fs::path Scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("mw_video_test_" + std::to_string(getpid()) + "_" + name);
+  const fs::path dir =
+      fs::temp_directory_path() / ("mw_video_test_" + std::to_string(getpid()) + "_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

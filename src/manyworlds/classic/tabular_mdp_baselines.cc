@@ -29,7 +29,8 @@ struct Counts {
     for (int64_t sa = 0; sa < S * A; ++sa) {
       m.rewards[sa] = (wins[sa] + 1.0) / (visits[sa] + 2.0);
       for (int64_t k = 0; k < S; ++k) {
-        m.transitions[sa * S + k] = (next[sa * S + k] + 1.0) / (visits[sa] + static_cast<double>(S));
+        m.transitions[sa * S + k] =
+            (next[sa * S + k] + 1.0) / (visits[sa] + static_cast<double>(S));
       }
     }
     return m;
@@ -44,7 +45,8 @@ struct Counts {
       const double g_loss = Gamma(visits[sa] - wins[sa] + 1, rng);
       m.rewards[sa] = g_win / (g_win + g_loss);
       double total = 0.0;
-      for (int64_t k = 0; k < S; ++k) total += m.transitions[sa * S + k] = Gamma(next[sa * S + k] + 1, rng);
+      for (int64_t k = 0; k < S; ++k)
+        total += m.transitions[sa * S + k] = Gamma(next[sa * S + k] + 1, rng);
       for (int64_t k = 0; k < S; ++k) m.transitions[sa * S + k] /= total;
     }
     return m;
@@ -102,7 +104,8 @@ class Strategy {
 
 class RandomStrategy : public Strategy {
  public:
-  int64_t Act(const TabularMdp& truth, const Counts&, int64_t, int64_t, int64_t, Rng& rng) override {
+  int64_t Act(const TabularMdp& truth, const Counts&, int64_t, int64_t, int64_t,
+              Rng& rng) override {
     return static_cast<int64_t>(rng.UniformInt(static_cast<uint64_t>(truth.n_actions)));
   }
 };
@@ -174,7 +177,8 @@ void CheckTasks(const std::vector<TabularMdp>& tasks) {
                         " transition probabilities");
     }
     for (double r : m.rewards) {
-      if (!(r >= 0.0 && r <= 1.0)) throw ConfigError("tabular-mdp baseline: rewards must be in [0, 1]");
+      if (!(r >= 0.0 && r <= 1.0))
+        throw ConfigError("tabular-mdp baseline: rewards must be in [0, 1]");
     }
     for (int64_t sa = 0; sa < S * A; ++sa) {
       double total = 0.0;
@@ -206,7 +210,8 @@ BaselineResult RunTabularMdpBaseline(const std::string& name, const std::vector<
   const auto found = Registry().find(name);
   if (found == Registry().end()) {
     std::string allowed;
-    for (const std::string& n : TabularMdpBaselineNames()) allowed += (allowed.empty() ? "" : ", ") + n;
+    for (const std::string& n : TabularMdpBaselineNames())
+      allowed += (allowed.empty() ? "" : ", ") + n;
     throw ConfigError("tabular-mdp baseline: unknown strategy '" + name + "'; allowed: " + allowed);
   }
   if (episodes < 1 || horizon < 1 || trials_per_task < 1) {
@@ -252,8 +257,8 @@ BaselineResult RunTabularMdpBaseline(const std::string& name, const std::vector<
   BaselineResult result;
   result.name = name;
   result.mean_trial_return = sum / static_cast<double>(count);
-  const double var =
-      std::max(0.0, sum_sq / static_cast<double>(count) - result.mean_trial_return * result.mean_trial_return);
+  const double var = std::max(0.0, sum_sq / static_cast<double>(count) -
+                                       result.mean_trial_return * result.mean_trial_return);
   result.standard_error = std::sqrt(var / static_cast<double>(count));
   return result;
 }

@@ -42,9 +42,9 @@ std::optional<FileSum> Sum(const fs::path& file) {
 }
 
 uint32_t TextCrc(const std::string& text) {
-  return static_cast<uint32_t>(
-      crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(text.data()),
-            static_cast<uInt>(text.size())));
+  return static_cast<uint32_t>(crc32(crc32(0L, Z_NULL, 0),
+                                     reinterpret_cast<const Bytef*>(text.data()),
+                                     static_cast<uInt>(text.size())));
 }
 
 // The CRC of state.json's content without its "checksum" field (nlohmann

@@ -8,11 +8,10 @@
 #define MANYWORLDS_EXPERIMENTS_CHECKPOINT_INTEGRITY_H_
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace manyworlds::experiments {
 
