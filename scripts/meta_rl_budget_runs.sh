@@ -21,6 +21,7 @@ add ml1_push_pearl  configs/ml1_reach_pearl.yaml "env.options.task=push eval_env
 add ml1_pick_place_rl2   configs/ml1_reach_rl2.yaml   "env.options.task=pick-place eval_env.options.task=pick-place experiment.steps_per_task=50000 experiment.eval_every=25000"
 add ml1_pick_place_maml  configs/ml1_reach_maml.yaml  "env.options.task=pick-place eval_env.options.task=pick-place experiment.steps_per_task=50000 experiment.eval_every=25000"
 add ml1_pick_place_pearl configs/ml1_reach_pearl.yaml "env.options.task=pick-place eval_env.options.task=pick-place experiment.steps_per_task=10000 experiment.eval_every=5000 experiment.warmup_steps=2000 agent.updates_per_iteration=100"
+add ml10_maml_150k configs/ml10_maml.yaml "experiment.steps_per_task=150000 experiment.eval_every=50000"
 add cheetah_vel_pearl configs/cheetah_vel_pearl.yaml "experiment.steps_per_task=10000 experiment.eval_every=2500"
 
 names=("$@"); [ ${#names[@]} -eq 0 ] && names=("${order[@]}")
