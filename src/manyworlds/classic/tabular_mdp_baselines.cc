@@ -142,16 +142,13 @@ class OracleStrategy : public Strategy {
  public:
   int64_t Act(const TabularMdp& truth, const Counts& c, int64_t s, int64_t t, int64_t horizon,
               Rng&) override {
-    if (t == 0 && plan_for_ != &truth) {
-      plan_ = PlanQ(truth, horizon);
-      plan_for_ = &truth;
-    }
+    // one strategy per MDP (RunTabularMdpBaseline): plan once, for all its trials
+    if (plan_.empty()) plan_ = PlanQ(truth, horizon);
     return Best(plan_.data() + (t * c.S + s) * c.A, c.visits.data() + s * c.A, c.A);
   }
 
  private:
   std::vector<double> plan_;
-  const TabularMdp* plan_for_ = nullptr;
 };
 
 const std::map<std::string, std::function<std::unique_ptr<Strategy>()>>& Registry() {

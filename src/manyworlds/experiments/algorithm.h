@@ -9,6 +9,7 @@
 #ifndef MANYWORLDS_EXPERIMENTS_ALGORITHM_H_
 #define MANYWORLDS_EXPERIMENTS_ALGORITHM_H_
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -20,6 +21,17 @@
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
+
+// Streams of experiment.seed the family loops derive their generators from
+// (unchanged since the first trainer, so runs keep their numbers).
+inline constexpr uint64_t kAgentStream = 0x6167656e74;     // "agent"
+inline constexpr uint64_t kActionStream = 0x616374696f6e;  // "action"
+inline constexpr uint64_t kReplayStream = 0x7265706c6179;  // "replay"
+
+// Seconds of a steady-clock duration (the loops' timing fields).
+inline double Seconds(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double>(d).count();
+}
 
 struct AlgorithmSetup {
   const TrainConfig& config;

@@ -27,7 +27,7 @@ void WriteArchive(const std::filesystem::path& file,
   } catch (const std::exception& e) {
     throw Error("cannot write checkpoint '" + file.string() + "': " + FirstLine(e.what()));
   }
-  AtomicWriteFile(file, bytes.str());
+  AtomicWriteFile(file, bytes.view());  // no copy of the archive
 }
 
 void ReadArchive(const std::filesystem::path& file,

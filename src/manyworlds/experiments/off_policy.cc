@@ -27,13 +27,6 @@ namespace manyworlds::experiments {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-// Streams of experiment.seed (unchanged since the first trainer, so runs
-// keep their numbers).
-constexpr uint64_t kAgentStream = 0x6167656e74;     // "agent"
-constexpr uint64_t kActionStream = 0x616374696f6e;  // "action"
-constexpr uint64_t kReplayStream = 0x7265706c6179;  // "replay"
 
 class OffPolicyAlgorithm : public Algorithm {
  public:

@@ -33,9 +33,6 @@ namespace manyworlds::experiments {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
-
-constexpr uint64_t kAgentStream = 0x6167656e74;  // "agent"
 
 class OnPolicyAlgorithm : public Algorithm {
  public:

@@ -45,7 +45,6 @@ constexpr char kCheckpointFormat[] = "manyworlds-train-checkpoint";
 constexpr int kCheckpointVersion = 1;
 constexpr char kLatestFile[] = "latest";
 
-double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 
 // True when a multiple of `every` lies in (prev, step].
 bool Due(int64_t prev, int64_t step, int64_t every) {
