@@ -10,10 +10,12 @@
 
 #include "apps/manyworlds/commands.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/memory.h"
 #include "manyworlds/core/registry.h"
 
 int main(int argc, char** argv) {
   namespace cli = manyworlds::cli;
+  manyworlds::KeepFreedMemoryForReuse();  // before any thread or tensor exists
   CLI::App app{"manyworlds: multi-task and meta-RL environments in C++", "manyworlds"};
   app.require_subcommand(1);
   app.footer("Run `manyworlds <command> --help` for the options of a command.");

@@ -93,6 +93,21 @@ torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> par
                 " tensors");
   }
   const bool ensemble = params[0].dim() == 3;
+  if (ensemble && x.size(-2) >= kEnsembleSplitRows) {
+    // One addmm chain per member: at this many rows it beats baddbmm (see
+    // kEnsembleSplitRows). Equal to the baddbmm path up to rounding.
+    const int64_t members = params[0].size(0);
+    std::vector<torch::Tensor> member_params(params.size());
+    std::vector<torch::Tensor> outputs;
+    outputs.reserve(static_cast<size_t>(members));
+    for (int64_t e = 0; e < members; ++e) {
+      for (size_t i = 0; i < params.size(); ++i) {
+        member_params[i] = params[i][e];
+      }
+      outputs.push_back(MlpForward(x.dim() == 3 ? x[e] : x, member_params, activation));
+    }
+    return torch::stack(outputs);
+  }
   torch::Tensor h = x;
   if (ensemble && h.dim() == 2) {
     h = h.unsqueeze(0).expand({params[0].size(0), h.size(0), h.size(1)});

@@ -56,6 +56,11 @@ size_t AppendMlpLayout(std::vector<ParamSpec>& specs, const std::string& prefix,
                        const MlpOptions& options, bool ensemble);
 // Orthogonal weights, zero biases, for a (w, b, w, b, ...) list of views.
 void InitMlpParams(at::ArrayRef<torch::Tensor> params, c10::optional<at::Generator> generator);
+// Ensembles with at least this many rows run one addmm chain per member
+// instead of one baddbmm per layer. Measured in PyTorch alone
+// (bench/peers/ensemble_product.py, 2 vCPU, 300 wide): baddbmm is faster at
+// 256 rows, level near 1,280, 10-20 % slower at 4,096 (forward + backward).
+inline constexpr int64_t kEnsembleSplitRows = 2048;
 // [Linear -> ReLU] x n -> Linear with params (w0, b0, ...) in [in, out]
 // layout: x (..., in) -> (..., out) for 2-D weights; for 3-D (E, in, out)
 // weights, x is (B, in) shared by all members or (E, B, in) -> (E, B, out).

@@ -1,0 +1,31 @@
+// Process memory: the allocator setting training wants, and the check that
+// a requested size fits in this machine's memory before it is allocated.
+#ifndef MANYWORLDS_CORE_MEMORY_H_
+#define MANYWORLDS_CORE_MEMORY_H_
+
+#include <cstdint>
+#include <string>
+
+namespace manyworlds {
+
+// Makes glibc keep freed blocks of up to 32 MiB for reuse instead of
+// returning them to the kernel. A training update allocates and frees the
+// same few-MiB activations every step; by default glibc unmaps (or trims)
+// them and the next step page-faults them back in, zeroed. Measured on
+// PEARL at oyster's sizes (docs/benchmarks.md): 3.4 -> 5.1 updates/s.
+// Call once at program start, before threads; the CLI does. No effect (and
+// returns false) where the C library is not glibc.
+bool KeepFreedMemoryForReuse();
+
+// Physical memory of this machine in bytes (0 if unknown).
+uint64_t PhysicalMemoryBytes();
+
+// Throws ConfigError when `bytes` exceeds the machine's physical memory:
+// "<what> needs about N GiB, more than this machine's M GiB; lower <hint>".
+// Sizes are estimates made before allocating, so a request that cannot
+// succeed is refused with a message instead of being killed for memory.
+void CheckMemoryEstimate(double bytes, const std::string& what, const std::string& hint);
+
+}  // namespace manyworlds
+
+#endif  // MANYWORLDS_CORE_MEMORY_H_
