@@ -22,6 +22,7 @@
 #include "manyworlds/agents/sac_timing.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/memory.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/nn/threads.h"
 
@@ -317,7 +318,22 @@ void RunBenchPearl(const BenchAgentArgs& args) {
             << args.obs_dim << ", action " << args.action_dim << "\n";
 }
 
+// Rough upper bound of what one update holds at once: inputs and outputs of
+// every layer for each row (forward, gradients, optimizer copies), weights
+// with their gradients and Adam moments. Refuses sizes that cannot fit.
+void CheckBenchMemory(const BenchAgentArgs& args) {
+  double rows = static_cast<double>(args.batch);
+  if (args.agent == "rl2" || args.agent == "maml") rows *= args.trial_length;
+  if (args.agent == "sac" || args.agent == "pearl") rows *= args.tasks;
+  const double width = std::max(args.obs_dim, args.hidden);
+  const double per_row = 2.0 * args.obs_dim + 8.0 * args.hidden * (args.layers + 1);
+  const double weights = 16.0 * width * args.hidden * (args.layers + 1);
+  CheckMemoryEstimate(4.0 * (rows * per_row + weights), "bench agent at these sizes",
+                      "--batch, --tasks, --trial-length, --hidden or --obs-dim");
+}
+
 void RunBenchAgent(const BenchAgentArgs& args) {
+  CheckBenchMemory(args);
   if (args.agent == "pearl") {
     RunBenchPearl(args);
     return;

@@ -248,6 +248,13 @@ TEST(ReplayBufferTest, CorruptOrMismatchedSnapshotsFailClearlyAndChangeNothing) 
 TEST(ReplayBufferTest, RejectsBadArguments) {
   EXPECT_THROW(ReplayBuffer(2, 3, 2, 3), ConfigError);
   EXPECT_THROW(ReplayBuffer(10, 0, 2, 1), ConfigError);
+  // 10^9 transitions of 1,000-dim observations (8 TB) are refused before allocating.
+  try {
+    ReplayBuffer(1000000000, 1000, 4, 1);
+    ADD_FAILURE() << "an 8 TB replay buffer was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("replay.capacity"), std::string::npos) << e.what();
+  }
   ReplayBuffer replay(10, 3, 2, 1);
   std::vector<float> obs(3), action(2), bad(4);
   EXPECT_THROW(replay.Add(1, obs, action, 0, obs, false), Error);

@@ -59,6 +59,17 @@ TEST(RegistryTest, UnknownAndIllTypedOptionsAreErrors) {
   EXPECT_THROW(registry.Make("toy", {{"discrete", 1}}), ConfigError);
   EXPECT_THROW(registry.Make("toy", {{"mode", "c"}}), ConfigError);
   EXPECT_THROW(registry.Make("toy", {{"max_episode_steps", -4}}), ConfigError);
+  // An episode must end: 0 (no limit) and more than 10^6 steps are refused, naming the range.
+  for (const int64_t bad : {int64_t{0}, int64_t{1000001}, int64_t{2147483647}}) {
+    try {
+      registry.Make("toy", {{"max_episode_steps", bad}});
+      ADD_FAILURE() << bad;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("[1, 1000000]"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(registry.Make("toy", {{"max_episode_steps", 1000000}})->spec().max_episode_steps,
+            1000000);
   EXPECT_THROW(registry.Make("toy", nlohmann::json::array({1})), ConfigError);
   EXPECT_NO_THROW(registry.Make("toy", {{"mode", "b"}, {"scale", "2"}, {"discrete", "true"}}));
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/memory.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -197,6 +198,12 @@ ReplayBuffer::ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim
                       std::to_string(num_tasks) + "), got " + std::to_string(capacity));
   }
   capacity_per_task_ = capacity / num_tasks;
+  // obs, next_obs, action, reward, done as float32 and the task index as int64
+  CheckMemoryEstimate(static_cast<double>(capacity_per_task_ * num_tasks) *
+                          (4.0 * (2.0 * obs_dim + action_dim + 2.0) + 8.0),
+                      "a replay buffer of " + std::to_string(capacity) + " transitions (obs " +
+                          std::to_string(obs_dim) + ")",
+                      "replay.capacity");
   storage_ = Allocate(capacity_per_task_ * num_tasks, obs_dim, action_dim);
   // task index of every row is fixed by its partition
   auto index = storage_.task_index.accessor<int64_t, 1>();

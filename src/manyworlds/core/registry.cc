@@ -134,7 +134,7 @@ void Registry::Add(EnvRegistration registration) {
   }
   registration.options.push_back(
       {std::string(kMaxEpisodeStepsOption), OptionType::kInt, -1,
-       "truncate episodes after this many steps; -1 keeps the env's default, 0 removes the limit"});
+       "truncate episodes after this many steps, in [1, 1000000]; -1 keeps the env's own limit"});
   registration.options.push_back(
       {std::string(kTerminateOnSuccessOption), OptionType::kBool, false,
        "end an episode (terminated) at the first step whose `success` info is 1, as Meta-World "
@@ -201,9 +201,12 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
   Options resolved = ResolveOptions(id, options);
   std::unique_ptr<Env> env = registration.factory(resolved);
   const int64_t limit = resolved.Int(kMaxEpisodeStepsOption);
-  if (limit < -1) {
-    throw ConfigError("env '" + registration.id + "': option 'max_episode_steps' must be >= -1, got " +
-                      std::to_string(limit));
+  // 0 ("no limit") is refused here: trainers, rollouts and evaluations count
+  // on every episode ending. The C++ SetMaxEpisodeSteps(0) still removes it.
+  if (limit != -1 && (limit < 1 || limit > kMaxEpisodeStepsLimit)) {
+    throw ConfigError("env '" + registration.id +
+                      "': option 'max_episode_steps' must be -1 (the env's own limit) or in [1, " +
+                      std::to_string(kMaxEpisodeStepsLimit) + "], got " + std::to_string(limit));
   }
   if (limit >= 0) env->SetMaxEpisodeSteps(limit);
   if (resolved.Bool(kTerminateOnSuccessOption)) {

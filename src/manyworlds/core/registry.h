@@ -63,6 +63,7 @@ class Registry {
  public:
   // Option every registration gets: override the env's episode limit.
   static constexpr std::string_view kMaxEpisodeStepsOption = "max_episode_steps";
+  static constexpr int64_t kMaxEpisodeStepsLimit = 1000000;
   // Option every registration gets: end episodes at the first success
   // (TerminateOnSuccess; a ConfigError for envs without a `success` field).
   static constexpr std::string_view kTerminateOnSuccessOption = "terminate_on_success";

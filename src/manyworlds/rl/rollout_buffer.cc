@@ -3,6 +3,7 @@
 #include <string>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/memory.h"
 
 namespace manyworlds::rl {
 
@@ -58,6 +59,12 @@ RolloutBuffer::RolloutBuffer(int64_t steps, int64_t envs, int64_t obs_dim, int64
   if (steps <= 0 || envs <= 0 || obs_dim <= 0 || action_dim <= 0) {
     throw ConfigError("RolloutBuffer: steps, envs, obs_dim and action_dim must be > 0");
   }
+  // Tensors below plus the advantages and returns computed later, float32.
+  const double cells = static_cast<double>(steps) * static_cast<double>(envs);
+  CheckMemoryEstimate(4.0 * cells * (2.0 * obs_dim + action_dim + 10.0),
+                      "a rollout of " + std::to_string(steps) + " steps x " + std::to_string(envs) +
+                          " envs (obs " + std::to_string(obs_dim) + ")",
+                      "the steps per iteration (agent.batch_size) or the number of envs");
   obs = torch::zeros({steps, envs, obs_dim}, torch::kFloat32);
   actions = torch::zeros({steps, envs, action_dim}, torch::kFloat32);
   log_probs = torch::zeros({steps, envs}, torch::kFloat32);
