@@ -182,13 +182,39 @@ TEST(ResumeTest, ARunDirectoryHasOneWriterAtATime) {
   EXPECT_NO_THROW(Trainer::Resume(dir, /*restart=*/true));
   fs::remove_all(dir);
 
-  // killed before config.yaml was written: not a run yet, so train may start it again
+  // killed before config.yaml was written (checkpoints/ already made): not a
+  // run yet, so train may start it again
   const fs::path half = Scratch("half_created");
-  fs::create_directories(half);
+  fs::create_directories(half / "checkpoints");
   std::ofstream(half / "tasks.json") << "{}";
   EXPECT_NO_THROW(Trainer::Create(Tiny(half)));
   EXPECT_TRUE(fs::exists(half / "config.yaml"));
   fs::remove_all(half);
+}
+
+TEST(ResumeTest, ARunKilledBeforeItsFirstCheckpointResumesFromStepZero) {
+  const fs::path whole = Scratch("whole_run");
+  const fs::path cut = Scratch("cut_run");
+  {
+    Trainer t = Trainer::Create(Tiny(whole));
+    ASSERT_TRUE(t.Run().finished);
+  }
+  {
+    // created, then killed before the first checkpoint (here: dropped)
+    Trainer t = Trainer::Create(Tiny(cut));
+    EXPECT_TRUE(fs::is_directory(cut / "checkpoints"));
+  }
+  {
+    Trainer t = Trainer::Resume(cut);
+    EXPECT_EQ(t.step(), 0);
+    ASSERT_EQ(t.warnings().size(), 1u);
+    EXPECT_NE(t.warnings()[0].find("before its first checkpoint"), std::string::npos);
+    ASSERT_TRUE(t.Run().finished);
+  }
+  EXPECT_EQ(Rows(cut / "metrics.jsonl"), Rows(whole / "metrics.jsonl"));
+  EXPECT_FALSE(fs::exists(cut / "checkpoints.damaged.1"));
+  fs::remove_all(whole);
+  fs::remove_all(cut);
 }
 
 TEST(ResumeTest, BadRunsFailClearlyAndLoseNothing) {

@@ -596,7 +596,12 @@ Trainer Trainer::Create(const TrainConfig& config) {
   const fs::path run_dir = config.experiment.run_dir;
   const RunPaths paths{run_dir};
   auto refuse_existing = [&] {
-    if (fs::exists(paths.config()) || fs::exists(paths.checkpoints())) {
+    // an empty checkpoints/ without config.yaml is a creation cut short
+    std::error_code ec;
+    const bool empty_checkpoints = fs::is_directory(paths.checkpoints(), ec) &&
+                                   fs::is_empty(paths.checkpoints(), ec) && !ec;
+    if (fs::exists(paths.config()) ||
+        (fs::exists(fs::symlink_status(paths.checkpoints())) && !empty_checkpoints)) {
       throw ConfigError("run directory '" + run_dir.string() +
                         "' already holds a run; continue it with `manyworlds train --resume " +
                         run_dir.string() + "` or choose another experiment.run_dir");
@@ -625,11 +630,18 @@ Trainer Trainer::Create(const TrainConfig& config) {
   impl->lock = std::make_unique<RunLock>(run_dir);
   refuse_existing();
   // config.yaml last: a directory is a run once it has one, so a kill
-  // before it leaves a directory that `train` may simply start again
+  // before it leaves a directory that `train` may simply start again. An
+  // empty checkpoints/ marks a run that has not reached its first checkpoint,
+  // which `train --resume` starts again from step 0 (nothing is lost).
   if (impl->eval_tasks) {
     AtomicWriteFile(paths.eval_tasks(), impl->eval_tasks->ToJson().dump(2) + "\n");
   }
   AtomicWriteFile(paths.tasks(), impl->tasks.ToJson().dump(2) + "\n");
+  fs::create_directories(paths.checkpoints(), ec);
+  if (ec) {
+    throw Error("cannot create '" + paths.checkpoints().string() + "': " + ec.message());
+  }
+  FsyncPath(run_dir, /*directory=*/true);
   AtomicWriteFile(paths.config(), DumpYaml(config.ToJson()));
   impl->metrics_log = std::make_unique<RunLog>(run_dir, "metrics");
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
@@ -666,7 +678,18 @@ Trainer Trainer::Resume(const fs::path& run_dir, bool restart) {
     throw ConfigError("run '" + run_dir.string() + "' has an intact checkpoint (" +
                       chosen->dir.filename().string() + "); resume it without --restart");
   }
-  if (!chosen && !restart) {
+  // Killed before its first checkpoint: checkpoints/ is still the empty
+  // directory Create made and the run never finished. Starting again from
+  // step 0 redoes exactly what was lost.
+  std::error_code empty_ec;
+  const bool never_checkpointed =
+      !chosen && fs::is_directory(fs::symlink_status(impl->paths.checkpoints())) &&
+      fs::is_empty(impl->paths.checkpoints(), empty_ec) && !empty_ec &&
+      !fs::exists(impl->paths.summary());
+  if (never_checkpointed && !restart) {
+    impl->warnings.push_back("run '" + run_dir.string() +
+                             "' stopped before its first checkpoint; starting it again from step 0");
+  } else if (!chosen && !restart) {
     throw ConfigError(none + ", so there is nothing to resume; `manyworlds train --resume " +
                       run_dir.string() + " --restart` trains it again from step 0 with its " +
                       "saved config");
@@ -677,7 +700,7 @@ Trainer Trainer::Resume(const fs::path& run_dir, bool restart) {
   } else {
     // keep whatever was there (damaged checkpoints, a stray file) beside the run
     const fs::path old = impl->paths.checkpoints();
-    if (fs::exists(fs::symlink_status(old))) {
+    if (!never_checkpointed && fs::exists(fs::symlink_status(old))) {
       fs::path aside;
       for (int n = 1;; ++n) {
         aside = run_dir / ("checkpoints.damaged." + std::to_string(n));
