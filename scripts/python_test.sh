@@ -9,6 +9,8 @@
 # python3-torch (1.13; the venv sees it through --system-site-packages), so no
 # CUDA wheels are downloaded. Where build/manyworlds exists (scripts/test.sh
 # builds it) the determinism test also compares with `manyworlds rollout --json`.
+# The Meta-World fidelity tests use the official package from PyPI in a second
+# venv (default .venv-metaworld/, override with MANYWORLDS_METAWORLD_VENV).
 # Idempotent; extra arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,6 +44,17 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 "${pip[@]}" install -q .
+
+# The official Meta-World package for the fidelity tests, in a venv of its own: metaworld 3.1
+# needs gymnasium >= 1.1, Stable-Baselines3 2.4 < 1.1. Nothing of ours is installed there; the
+# tests run its recorder (python/tests/fidelity/metaworld_record.py) as a subprocess.
+metaworld_venv=${MANYWORLDS_METAWORLD_VENV:-.venv-metaworld}
+if [ ! -x "$metaworld_venv/bin/python" ]; then
+  "$python" -m venv "$metaworld_venv"
+fi
+"$metaworld_venv/bin/python" -m pip --disable-pip-version-check install -q "metaworld==3.1.1" packaging
+case "$metaworld_venv" in /*) ;; *) metaworld_venv=$(pwd)/$metaworld_venv ;; esac
+export MANYWORLDS_METAWORLD_PYTHON="$metaworld_venv/bin/python"
 
 # python/manyworlds is not on sys.path here: the tests import the installed package.
 set +e

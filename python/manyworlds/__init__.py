@@ -26,7 +26,7 @@ from manyworlds._core import (
 )
 from manyworlds.env import ManyworldsEnv, make
 from manyworlds.vector import ManyworldsVectorEnv, make_vec
-from manyworlds import benchmarks
+from manyworlds import benchmarks, manipulation
 
 __version__ = "0.1.0"
 
@@ -38,6 +38,7 @@ __all__ = [
     "env_ids",
     "registry",
     "benchmarks",
+    "manipulation",
     "mix_seed",
     "Error",
     "ConfigError",

@@ -31,6 +31,7 @@ void CheckSignals();
 
 void BindEnv(py::module_& m);
 void BindExecutor(py::module_& m);
+void BindSawyerReward(py::module_& m);  // no-op without MuJoCo
 
 }  // namespace manyworlds::python
 

@@ -102,4 +102,5 @@ PYBIND11_MODULE(_core, m) {
   EnsureOsmesaGlobal();
   BindEnv(m);
   BindExecutor(m);
+  BindSawyerReward(m);
 }

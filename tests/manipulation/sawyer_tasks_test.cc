@@ -128,6 +128,31 @@ TEST_P(SawyerTaskTest, RewardsBoundedAndFiniteUnderRandomActions) {
   }
 }
 
+TEST_P(SawyerTaskTest, RewardIsAPureFunctionOfTheStateRecord) {
+  // EvaluateReward on the record a step left gives that step's reward and
+  // info (what the Meta-World fidelity test relies on); bad input throws.
+  env_->SeedTask(4);
+  env_->ResetTaskState();
+  Observation obs = env_->Reset();
+  RandomPolicy policy(env_->spec().action_space, 5);
+  std::vector<float> action(4);
+  for (int t = 0; t < 30; ++t) {
+    policy.Act(obs.env_obs, obs.task_obs, action);
+    const StepResult r = env_->Step(action);
+    const RewardTerms again = task().EvaluateReward(task().state(), action);
+    ASSERT_EQ(static_cast<float>(again.reward), r.reward) << "step " << t;
+    ASSERT_EQ(again.success ? 1.0f : 0.0f, r.info.values[env_->spec().InfoIndex("success")]);
+    ASSERT_EQ(static_cast<float>(again.obj_to_target),
+              r.info.values[env_->spec().InfoIndex("obj_to_target")]);
+    obs = r.obs;
+  }
+  EXPECT_THROW(task().EvaluateReward(task().state(), std::vector<float>(3)), Error);
+  EXPECT_THROW(task().EvaluateReward(task().state(), std::vector<float>{0, 0, 0, NAN}), Error);
+  SawyerState bad = task().state();
+  bad.obj[1] = INFINITY;
+  EXPECT_THROW(task().EvaluateReward(bad, action), Error);
+}
+
 TEST_P(SawyerTaskTest, NoSuccessAtTheFirstStep) {
   env_->SeedTask(8);
   const std::vector<float> zero(4, 0.0f);

@@ -1,6 +1,7 @@
 #include "manyworlds/manipulation/sawyer_task.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -271,6 +272,32 @@ void SawyerTask::DoStep(std::span<const float> action, const StepView& out) {
   out.info[4] = static_cast<float>(terms.in_place_reward);
   out.info[5] = static_cast<float>(terms.obj_to_target);
   out.info[6] = static_cast<float>(terms.reward);
+}
+
+RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
+                                       std::span<const float> action) const {
+  if (action.size() != 4) {
+    throw Error("env '" + config_.id + "': EvaluateReward needs 4 action values, got " +
+                std::to_string(action.size()));
+  }
+  std::array<float, 4> clipped{};
+  for (size_t i = 0; i < 4; ++i) {
+    if (!std::isfinite(action[i])) {
+      throw Error("env '" + config_.id + "': EvaluateReward: action[" + std::to_string(i) +
+                  "] is not finite");
+    }
+    clipped[i] = std::clamp(action[i], -1.0f, 1.0f);
+  }
+  for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
+                        &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init}) {
+    for (double x : *v) {
+      if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
+    }
+  }
+  if (!std::isfinite(state.gripper_opening)) {
+    throw Error("env '" + config_.id + "': EvaluateReward: gripper_opening is not finite");
+  }
+  return ComputeReward(state, clipped);
 }
 
 void SawyerTask::RefreshState() {

@@ -84,13 +84,29 @@ struct SawyerOptions {
   bool throw_on_sim_warning = false;
 };
 
-// World-frame quantities rewards read; refreshed after every step.
+// The state record: every world-frame quantity a reward, success rule or
+// info field reads, refreshed after every step. Rewards are pure functions of
+// it and the action (SawyerTask::EvaluateReward), so a test can evaluate
+// them on quantities read from another simulator (python: sawyer_reward).
+// Meta-World v3's names for the same quantities are in brackets.
 struct SawyerState {
-  Vec3 hand{}, tcp{}, left_pad{}, right_pad{}, obj{}, goal{};
-  Vec3 obj_init{}, tcp_init{}, hand_init{};
+  Vec3 hand{};       // obs[0:3], the hand position [body "hand" xpos]
+  Vec3 tcp{};        // midpoint of the finger tips [tcp_center]
+  Vec3 left_pad{};   // finger pads [get_body_com("leftpad"), ("rightpad")]
+  Vec3 right_pad{};
+  Vec3 obj{};        // obs[4:7], the task's object point [_get_pos_objects()]
+  Vec3 goal{};       // [_target_pos]
+  Vec3 obj_init{};   // obj at reset [obj_init_pos]
+  Vec3 tcp_init{};   // tcp at reset [init_tcp]
+  Vec3 hand_init{};  // the configured hand start [hand_init_pos]
   double gripper_opening = 0;  // obs[3]
-  bool touching_obj = false;   // a finger pad is in contact with the object
+  bool touching_obj = false;   // pads in contact with the object [touching_main_object]
 };
+
+// Names of SawyerState's fields, in declaration order (the Python record's keys).
+inline constexpr const char* kSawyerStateFields[] = {
+    "hand",     "tcp",      "left_pad",  "right_pad",       "obj",         "goal",
+    "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj"};
 
 // One step's reward and info values.
 struct RewardTerms {
@@ -109,6 +125,11 @@ class SawyerTask : public Env {
   const mjData* data() const { return data_.get(); }
   const SawyerTaskConfig& config() const { return config_; }
   const SawyerState& state() const { return state_; }
+  // The reward and info this task computes for any state record, as a step
+  // does from the simulator's. `action` has 4 values; like Step, the
+  // gripper value is clipped to [-1, 1]. Throws Error on a wrong size or a
+  // non-finite value.
+  RewardTerms EvaluateReward(const SawyerState& state, std::span<const float> action) const;
   long sim_warning_count() const { return sim_warning_count_; }
 
   // Writes the complete MJCF of the current variation (objects, fixtures,

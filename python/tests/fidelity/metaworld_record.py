@@ -1,0 +1,108 @@
+"""Drives Meta-World's own tasks (the official `metaworld` package) and records, at every step,
+the quantities its reward reads from its simulator together with its reward and info.
+
+Runs in the Python that has `metaworld` installed (scripts/python_test.sh makes .venv-metaworld/
+for it); python/tests/test_metaworld_fidelity.py runs it and evaluates manyworlds' reward on the
+records (`manyworlds.sawyer_reward`). Only the official package is imported here.
+
+    python metaworld_record.py --tasks reach,push --out records.json
+
+Per task: `--goals` of MT1's training goals (seed `--seed`); for each, one episode of uniform
+random actions and one of the package's scripted policy with Gaussian action noise (so that the
+arm reaches, grasps and moves the object), `--steps` steps each. A record is one step:
+{"state": {...}, "action": [...], "reward": r, "info": {...}}; the state keys are manyworlds'
+state record (SawyerState), taken from the official env as its reward code reads them.
+"""
+import argparse
+import json
+import re
+
+import numpy as np
+
+
+def state_record(env, obs):
+    """manyworlds' SawyerState fields, read the way Meta-World v3's reward code reads them."""
+    vec = lambda v: [float(x) for x in np.asarray(v, dtype=np.float64)]
+    return {
+        "hand": vec(obs[0:3]),
+        "tcp": vec(env.tcp_center),
+        "left_pad": vec(env.get_body_com("leftpad")),
+        "right_pad": vec(env.get_body_com("rightpad")),
+        "obj": vec(obs[4:7]),
+        "goal": vec(env._target_pos),
+        "obj_init": vec(env.obj_init_pos),
+        "tcp_init": vec(env.init_tcp),
+        "hand_init": vec(env.hand_init_pos),
+        "gripper_opening": float(obs[3]),
+        "touching_obj": touching(env),
+    }
+
+
+def touching(env):
+    """Both pads pressing on the task's main object; tasks without one ("objGeom") never touch."""
+    try:
+        return bool(env.touching_main_object)
+    except KeyError:
+        return False
+
+
+def policy_for(task):
+    import metaworld.policies as policies
+
+    name = "Sawyer" + "".join(part.capitalize() for part in re.split(r"[-_]", task)) + "V3Policy"
+    return getattr(policies, name)()
+
+
+def record_task(task, goals, steps, seed, reward_version):
+    import metaworld
+
+    benchmark = metaworld.MT1(f"{task}-v3", seed=seed)
+    env = benchmark.train_classes[f"{task}-v3"](reward_function_version=reward_version)
+    policy = policy_for(task)
+    rng = np.random.default_rng(seed)
+    rows = []
+    for goal in benchmark.train_tasks[:goals]:
+        for mode in ("random", "scripted"):
+            env.set_task(goal)
+            obs, _ = env.reset(seed=seed)
+            for _ in range(steps):
+                if mode == "random":
+                    action = rng.uniform(-1.0, 1.0, size=4)
+                else:
+                    action = np.clip(policy.get_action(obs) + rng.normal(0.0, 0.1, size=4), -1, 1)
+                action = action.astype(np.float32)
+                obs, reward, _, truncated, info = env.step(action)
+                rows.append({
+                    "task": task,
+                    "mode": mode,
+                    "state": state_record(env, obs),
+                    "action": [float(a) for a in action],
+                    "reward": float(reward),
+                    "info": {k: float(v) for k, v in info.items()},
+                })
+                if truncated:
+                    break
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--tasks", required=True, help="comma-separated task names, e.g. reach,push")
+    parser.add_argument("--goals", type=int, default=3, help="MT1 training goals per task")
+    parser.add_argument("--steps", type=int, default=150, help="steps per episode")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--reward-version", default="v2", choices=["v1", "v2"])
+    parser.add_argument("--out", required=True)
+    args = parser.parse_args()
+    import metaworld
+
+    rows = []
+    for task in args.tasks.split(","):
+        rows += record_task(task, args.goals, args.steps, args.seed, args.reward_version)
+    with open(args.out, "w") as f:
+        json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
+                   "reward_version": args.reward_version, "rows": rows}, f)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,93 @@
+"""Our manipulation rewards against Meta-World v3's own, step by step.
+
+The official package (`metaworld` from PyPI, in its own virtual environment because it needs a
+newer Gymnasium than Stable-Baselines3 2.4 accepts) drives each task through random and
+noisy-scripted episodes; python/tests/fidelity/metaworld_record.py records, at every step, the
+quantities the official reward reads from its simulator together with its reward and info.
+Here manyworlds evaluates its own reward on the same quantities (manyworlds.manipulation.reward)
+and must agree to 1e-5 (relative) at every step, success exactly.
+
+$MANYWORLDS_METAWORLD_PYTHON names the Python with `metaworld` installed; scripts/python_test.sh
+creates .venv-metaworld/ and sets it. Without it these tests are skipped, saying so.
+
+Tasks listed in FAITHFUL are those whose v3 reward (reward_function_version "v2", v3's default)
+manyworlds computes; docs/fidelity.md lists the rest and what differs.
+"""
+
+import json
+import os
+import subprocess
+
+import pytest
+
+import manyworlds.manipulation as mp
+
+from conftest import REPO
+
+FAITHFUL = ["reach", "push"]
+FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
+          "unscaled_reward"]
+RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"
+
+
+@pytest.fixture(scope="module")
+def records(tmp_path_factory):
+    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
+    if not python:
+        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
+    out = tmp_path_factory.mktemp("metaworld") / "records.json"
+    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL), "--goals", "3",
+                          "--steps", "150", "--seed", "7", "--out", str(out)],
+                         timeout=600, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
+    data = json.loads(out.read_text())
+    assert data["reward_version"] == "v2"
+    return data["rows"]
+
+
+def close(ours, theirs):
+    return abs(ours - theirs) <= 1e-5 * max(abs(theirs), 1e-3)
+
+
+@pytest.mark.parametrize("task", FAITHFUL)
+def test_reward_success_and_info_match_the_official_package(records, task):
+    rows = [row for row in records if row["task"] == task]
+    assert len(rows) == 3 * 2 * 150
+    # The episodes must exercise the reward: scripted ones reach success, random ones do not.
+    assert any(row["info"]["success"] for row in rows if row["mode"] == "scripted")
+    mismatches = []
+    for i, row in enumerate(rows):
+        ours = mp.reward(task, row["state"], row["action"])
+        if not close(ours["reward"], row["reward"]):
+            mismatches.append((i, "reward", ours["reward"], row["reward"]))
+        if ours["success"] != row["info"]["success"]:
+            mismatches.append((i, "success", ours["success"], row["info"]["success"]))
+        for field in FIELDS:
+            if not close(ours[field], row["info"][field]):
+                mismatches.append((i, field, ours[field], row["info"][field]))
+    assert not mismatches, f"{len(mismatches)} mismatches, first: {mismatches[:5]}"
+
+
+def test_records_are_checked_for_their_fields():
+    record = mp.state("push")
+    assert sorted(record) == sorted(mp.state_fields())
+    bad = dict(record, tcp_centre=[0, 0, 0])
+    with pytest.raises(ValueError, match="unknown field 'tcp_centre'"):
+        mp.reward("push", bad, [0, 0, 0, 0])
+    missing = {k: v for k, v in record.items() if k != "goal"}
+    with pytest.raises(ValueError, match="missing field 'goal'"):
+        mp.reward("push", missing, [0, 0, 0, 0])
+    with pytest.raises(RuntimeError, match="4 action values"):
+        mp.reward("push", record, [0, 0, 0])
+
+
+def test_the_record_of_a_step_gives_the_step_reward():
+    import numpy as np
+    env = mp._core.Env("push")
+    env.seed_task(3)
+    env.reset()
+    action = np.array([0.3, -0.2, -0.5, 0.4], dtype=np.float32)
+    for _ in range(20):
+        _, _, reward, _, _, info = env.step(action)
+    ours = mp.reward("push", mp._core.sawyer_state(env), action)
+    assert ours["reward"] == pytest.approx(float(reward), rel=1e-6)
