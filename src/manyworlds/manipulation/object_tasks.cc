@@ -10,6 +10,28 @@ double CageObject(const SawyerState& s, const Vec3& obj, double gripper_action,
       {s.left_pad, s.right_pad, s.tcp, obj, s.obj_init, s.tcp_init, gripper_action}, params);
 }
 
+double PadCagingY(const SawyerState& s, double low, double high) {
+  constexpr double kPadMargin = 0.05;
+  const double left = s.left_pad[1] - s.obj[1];
+  const double right = s.obj[1] - s.right_pad[1];
+  const double left_margin = std::abs(std::abs(s.obj[1] - s.left_pad[1]) - kPadMargin);
+  const double right_margin = std::abs(std::abs(s.obj[1] - s.right_pad[1]) - kPadMargin);
+  return HamacherProduct(LongTailTolerance(left, low, high, left_margin),
+                         LongTailTolerance(right, low, high, right_margin));
+}
+
+double TcpCagingXz(const SawyerState& s, double radius) {
+  const double now = std::hypot(s.tcp[0] - s.obj[0], s.tcp[2] - s.obj[2]);
+  const double at_reset = std::hypot(s.obj_init[0] - s.tcp_init[0], s.obj_init[2] - s.tcp_init[2]);
+  return LongTailTolerance(now, 0.0, radius, at_reset - radius);
+}
+
+double SweepCaging(const SawyerState& s, double obj_radius, double band, double xz_radius) {
+  const double caging = HamacherProduct(PadCagingY(s, obj_radius, 0.05), TcpCagingXz(s, xz_radius));
+  const double gripping = caging > 0.95 ? PadCagingY(s, obj_radius, obj_radius + band) : 0.0;
+  return (caging + gripping) / 2.0;
+}
+
 bool HeldAndLifted(const SawyerState& s, double tcp_radius, double lift) {
   return Distance(s.tcp, s.obj) < tcp_radius && s.gripper_opening > 0 &&
          s.obj[2] - lift > s.obj_init[2];

@@ -17,6 +17,22 @@ namespace manyworlds::manipulation {
 double CageObject(const SawyerState& state, const Vec3& obj, double gripper_action,
                   const CagingParams& params);
 
+// Pieces of Meta-World v3's task-local caging terms (pick-place, sweep,
+// sweep-into have their own, unlike the shared GripperCagingReward):
+// PadCagingY: Hamacher product over both pads of the long-tail tolerance of
+// the pad's signed y offset from the object (left pad - obj, obj - right
+// pad) within (low, high), each with margin | |obj_y - pad_y| - 0.05 |.
+// (v3 takes that margin from the pads "at reset", which it stores as views
+// of the live positions: the current pads. We compute what v3 computes.)
+double PadCagingY(const SawyerState& state, double low, double high);
+// TcpCagingXz: long-tail tolerance of the tcp-object distance in xz within
+// (0, radius), margin = the reset tcp-object xz distance - radius.
+double TcpCagingXz(const SawyerState& state, double radius);
+// sweep and sweep-into: caging = H(PadCagingY(r, 0.05), TcpCagingXz(xz));
+// gripping = PadCagingY(r, r + band) once caging > 0.95 (no gripper-action
+// term); result (caging + gripping) / 2.
+double SweepCaging(const SawyerState& state, double obj_radius, double band, double xz_radius);
+
 // The Meta-World "carrying" test: tcp within `tcp_radius` of the object, the
 // gripper not shut (opening > 0) and the object `lift` above its start.
 bool HeldAndLifted(const SawyerState& state, double tcp_radius, double lift);

@@ -1,9 +1,9 @@
 #include "manyworlds/manipulation/pick_place.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation {
 
@@ -23,27 +23,11 @@ PickPlace::PickPlace(SawyerOptions options) : SawyerTask(Config(), options) {}
 
 namespace {
 
-// Meta-World v3's pick-place caging term (its own, not the shared one): the
-// pads' signed y offsets from the object, margins from the pads' "initial"
-// y, and the tcp-object distance in xz. v3 stores the initial pads as views
-// of the simulator's live body positions, so those margins in fact use the
-// current pads; we compute what v3 computes.
+// Meta-World v3's pick-place caging: pads and tcp caged as in
+// object_tasks.h, the gripper action counted once caging exceeds 0.97.
 double PickPlaceCaging(const SawyerState& s, double gripper_action) {
-  constexpr double kPadMargin = 0.05, kXzMargin = 0.005, kObjRadius = 0.015;
-  const double left = s.left_pad[1] - s.obj[1];
-  const double right = s.obj[1] - s.right_pad[1];
-  const double left_margin = std::abs(std::abs(s.obj[1] - s.left_pad[1]) - kPadMargin);
-  const double right_margin = std::abs(std::abs(s.obj[1] - s.right_pad[1]) - kPadMargin);
-  const double y_caging =
-      HamacherProduct(LongTailTolerance(left, kObjRadius, kPadMargin, left_margin),
-                      LongTailTolerance(right, kObjRadius, kPadMargin, right_margin));
-  const double tcp_obj_xz = std::hypot(s.tcp[0] - s.obj[0], s.tcp[2] - s.obj[2]);
-  const double xz_margin =
-      std::hypot(s.obj_init[0] - s.tcp_init[0], s.obj_init[2] - s.tcp_init[2]) - kXzMargin;
-  const double xz_caging = LongTailTolerance(tcp_obj_xz, 0.0, kXzMargin, xz_margin);
-  const double closed = std::clamp(gripper_action, 0.0, 1.0);
-  const double caging = HamacherProduct(y_caging, xz_caging);
-  const double gripping = caging > 0.97 ? closed : 0.0;
+  const double caging = HamacherProduct(PadCagingY(s, 0.015, 0.05), TcpCagingXz(s, 0.005));
+  const double gripping = caging > 0.97 ? std::clamp(gripper_action, 0.0, 1.0) : 0.0;
   return (HamacherProduct(caging, gripping) + caging) / 2.0;
 }
 

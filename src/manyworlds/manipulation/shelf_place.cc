@@ -13,7 +13,8 @@ namespace {
 constexpr double kGoalHeight = 0.3;  // goal above the bookcase's foot
 constexpr double kHalfBlock = 0.02;
 constexpr double kShelfDepth = 0.08;   // shelf front edge in front of the goal
-constexpr double kBlockedZone = 0.15;  // in front of the goal, below the shelf
+constexpr double kBlockedZone = 0.15;  // half-width in x of the zone below the shelf
+constexpr double kShelfTop = 0.24;     // v3's height of the zone under the shelf
 constexpr double kSuccessRadius = 0.07;
 constexpr double kRewardRadius = 0.05;
 
@@ -42,29 +43,32 @@ void ShelfPlace::PlaceObjects(mjModel* m, mjData* d) {
 }
 
 RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  // Meta-World v3's shelf-place reward.
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   double in_place =
       LongTailTolerance(obj_to_target, 0.0, kRewardRadius, Distance(s.obj_init, s.goal));
-  // Below the shelf and close in front of the goal the shelf is in the way:
-  // being nearer the goal there is not progress.
-  const double shelf_top = s.goal[2] - kHalfBlock;
-  const double zone_start = s.goal[1] - kBlockedZone;
-  if (s.obj[2] < shelf_top && std::abs(s.obj[0] - s.goal[0]) < kBlockedZone &&
-      s.obj[1] > zone_start && s.obj[1] < s.goal[1]) {
-    const double depth = (shelf_top - s.obj[2]) / shelf_top;
-    const double under = (s.obj[1] - zone_start) / kBlockedZone;
-    in_place = std::clamp(in_place - HamacherProduct(depth, under), 0.0, 1.0);
-  }
-  CagingParams caging;
+  CagingParams caging;  // the shared caging term, not high-density
   caging.obj_radius = 0.02;
   caging.pad_success_thresh = 0.05;
+  caging.object_reach_radius = 0.01;
   caging.xz_thresh = 0.01;
-  caging.high_density = true;
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
   RewardTerms terms;
   terms.reward = HamacherProduct(grasped, in_place);
+  // Below the shelf top (z 0.24) in front of the goal the shelf is in the
+  // way: there, and under the shelf past the goal, nearness is not progress.
+  // These change only the carrying bonus below, as in v3.
+  const bool below_shelf = s.obj[2] > 0.0 && s.obj[2] < kShelfTop &&
+                           s.obj[0] > s.goal[0] - kBlockedZone && s.obj[0] < s.goal[0] + kBlockedZone;
+  const double zone_start = s.goal[1] - 3.0 * kRewardRadius;
+  if (below_shelf && s.obj[1] > zone_start && s.obj[1] < s.goal[1]) {
+    const double depth = (kShelfTop - s.obj[2]) / kShelfTop;
+    const double under = (s.obj[1] - zone_start) / (3.0 * kRewardRadius);
+    in_place = std::clamp(in_place - HamacherProduct(under, depth), 0.0, 1.0);
+  }
+  if (below_shelf && s.obj[1] > s.goal[1]) in_place = 0.0;
   if (HeldAndLifted(s, 0.025, 0.01)) terms.reward += 1.0 + 5.0 * in_place;
   if (obj_to_target < kRewardRadius) terms.reward = 10.0;
   terms.success = obj_to_target <= kSuccessRadius;

@@ -25,6 +25,7 @@ class Sweep : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;
 };
 
 // Closes on the puck and slides it, 5 mm above the table, to the goal.
