@@ -39,10 +39,12 @@ def state_record(env, obs):
 
 
 def touching(env):
-    """Both pads pressing on the task's main object; tasks without one ("objGeom") never touch."""
+    """Both pads pressing on the task's main object. Tasks without one ("objGeom") never touch;
+    basketball's lookup calls a MuJoCo function that no longer exists (AttributeError), and its
+    reward never reads it."""
     try:
         return bool(env.touching_main_object)
-    except KeyError:
+    except (KeyError, AttributeError):
         return False
 
 

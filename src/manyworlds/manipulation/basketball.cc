@@ -9,12 +9,13 @@
 namespace manyworlds::manipulation {
 namespace {
 
-// The goal relative to the stand's foot.
-constexpr Vec3 kGoalOnStand{0.0, -0.1, 0.2};
-constexpr double kSuccessRadius = 0.08;
-// The ball's bottom clears the ring (5 cm above the goal) with this centre
-// height above the goal.
-constexpr double kOverRing = 0.11;
+// Meta-World v3: the goal is the ring's centre, 8.3 cm in front of the
+// stand's position and 25 cm up; success holds the ball above it, at
+// height 0.3 (5 cm over the ring plane), z counting twice.
+constexpr Vec3 kGoalOnStand{0.0, -0.083, 0.25};
+constexpr double kTargetHeight = 0.3;
+constexpr double kTargetRadius = 0.08;
+constexpr Vec3 kZTwice{1.0, 1.0, 2.0};
 
 }  // namespace
 
@@ -25,8 +26,12 @@ SawyerTaskConfig Basketball::Config() {
   config.xml_file = "basketball.xml";
   config.obj_low = {-0.1, 0.6, 0.03};
   config.obj_high = {0.1, 0.7, 0.03};
+  // v3 draws the stand in (-0.1, 0.85, 0)-(0.1, 0.9, 0); its 0.15 m
+  // ball-stand rule can never bind (the ranges are 0.15 apart in y), so
+  // there is none here.
   config.goal_low = {-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]};
   config.goal_high = {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]};
+  config.min_obj_goal_xy = 0.0;
   return config;
 }
 
@@ -42,15 +47,15 @@ void Basketball::PlaceObjects(mjModel* m, mjData* d) {
 }
 
 RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const float> action) const {
-  const double obj_to_target = Distance(s.obj, s.goal);
+  const Vec3 target{s.goal[0], s.goal[1], kTargetHeight};
+  const double obj_to_target = WeightedDistance(s.obj, target, kZTwice);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-  const Vec3 weights{1.0, 1.0, 2.0};
-  const double in_place =
-      LongTailTolerance(WeightedDistance(s.obj, s.goal, weights), 0.0, kSuccessRadius,
-                        WeightedDistance(s.obj_init, s.goal, weights));
+  const double in_place = LongTailTolerance(obj_to_target, 0.0, kTargetRadius,
+                                            WeightedDistance(s.obj_init, target, kZTwice));
   CagingParams caging;
   caging.obj_radius = 0.025;
   caging.pad_success_thresh = 0.06;
+  caging.object_reach_radius = 0.01;
   caging.xz_thresh = 0.005;
   caging.high_density = true;
   const bool held = HeldAndLifted(s, 0.035, 0.01);
@@ -60,10 +65,10 @@ RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const floa
   RewardTerms terms;
   terms.reward = HamacherProduct(grasped, in_place);
   if (held) terms.reward += 1.0 + 5.0 * in_place;
-  terms.success = obj_to_target <= kSuccessRadius;
-  if (terms.success) terms.reward = 10.0;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2] ? 1.0 : 0.0;
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
@@ -74,17 +79,13 @@ void BasketballScriptedPolicy::Act(std::span<const float> env_obs, std::span<con
                                    std::span<float> action) {
   const SawyerObs o(env_obs);
   const Vec3& ball = o.obj1;
-  const Vec3& goal = o.goal;
-  const double high = goal[2] + kOverRing;
-  const double xy_error = std::hypot(ball[0] - goal[0], ball[1] - goal[1]);
-  Vec3 carry_to;
-  if (xy_error > 0.02 && ball[2] < high - 0.02) {
-    carry_to = {ball[0], ball[1], high};  // straight up: the ring may be in the way
-  } else if (xy_error > 0.01) {
-    carry_to = {goal[0], goal[1], high};
-  } else {
-    carry_to = goal;  // down through the ring
-  }
+  const Vec3 above{o.goal[0], o.goal[1], kTargetHeight};
+  const double xy_error = std::hypot(ball[0] - above[0], ball[1] - above[1]);
+  // Straight up first (the ring may be over the ball), then across, above
+  // the ring, to the point over its centre.
+  const Vec3 carry_to = xy_error > 0.02 && ball[2] < kTargetHeight - 0.02
+                            ? Vec3{ball[0], ball[1], kTargetHeight + 0.01}
+                            : above;
   GraspParams params;
   // Closed on the 6 cm ball the opening is about 0.7.
   params.closed_on_object = 0.8;
