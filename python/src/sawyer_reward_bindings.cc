@@ -60,6 +60,8 @@ SawyerState ReadRecord(const py::dict& record) {
   s.hand_init = ReadVec3(record, "hand_init");
   s.gripper_opening = record["gripper_opening"].cast<double>();
   s.touching_obj = record["touching_obj"].cast<bool>();
+  s.obj_head = ReadVec3(record, "obj_head");
+  s.obj_head_init = ReadVec3(record, "obj_head_init");
   return s;
 }
 
@@ -102,6 +104,8 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["hand_init"] = vec(s.hand_init);
   out["gripper_opening"] = s.gripper_opening;
   out["touching_obj"] = s.touching_obj;
+  out["obj_head"] = vec(s.obj_head);
+  out["obj_head_init"] = vec(s.obj_head_init);
   return out;
 }
 #endif

@@ -127,16 +127,17 @@ int CheckFirstSuccess(const std::string& id, int variations, Check check) {
   return successes;
 }
 
-// The goal sits 7.5 cm inside the hole, so success needs the head past the
-// mouth and on the hole's axis.
+// The goal sits 6.6 cm inside the hole (Meta-World v3's box) and success
+// weights y and z twice, so it needs the head at the mouth or inside, near
+// the hole's axis.
 TEST(ObjectTaskPhysics, PegSuccessNeedsTheHeadInTheHole) {
   const int successes = CheckFirstSuccess(
       "peg-insert-side", 5, [](const SawyerTask& task, const std::vector<float>& obs) {
         const int head = mj_name2id(task.model(), mjOBJ_SITE, "peg_head");
         const mjtNum* p = task.data()->site_xpos + 3 * head;
-        EXPECT_LT(p[0], obs[kObsGoal] + 0.075);  // the mouth
-        EXPECT_LT(std::abs(p[1] - obs[kObsGoal + 1]), 0.03);
-        EXPECT_LT(std::abs(p[2] - obs[kObsGoal + 2]), 0.03);
+        EXPECT_LT(p[0], obs[kObsGoal] + 0.066 + 0.005);  // the mouth
+        EXPECT_LE(std::abs(p[1] - obs[kObsGoal + 1]), 0.035);
+        EXPECT_LE(std::abs(p[2] - obs[kObsGoal + 2]), 0.035);
       });
   EXPECT_EQ(successes, 5);
 }

@@ -68,6 +68,15 @@ TEST(GripperCagingRewardTest, AtTheMargins) {
   EXPECT_NEAR(GripperCagingReward(in, medium), 0.05, kTol);
 }
 
+TEST(RectPrismToleranceTest, ScalesInsideAndIsOneOutside) {
+  const Vec3 zero{0, 0, 0}, one{1, 2, -4};  // corners in any order of signs
+  EXPECT_NEAR(RectPrismTolerance({0.5, 1.0, -2.0}, zero, one), 0.125, kTol);
+  EXPECT_NEAR(RectPrismTolerance({1, 2, -4}, zero, one), 1.0, kTol);
+  EXPECT_NEAR(RectPrismTolerance({0, 1, -1}, zero, one), 0.0, kTol);  // a face of the zero corner
+  EXPECT_EQ(RectPrismTolerance({0.5, 1.0, 0.1}, zero, one), 1.0);     // outside in z
+  EXPECT_EQ(RectPrismTolerance({-0.1, 1.0, -2.0}, zero, one), 1.0);
+}
+
 TEST(DistanceTest, Euclidean) {
   EXPECT_NEAR(Distance({0, 0, 0}, {1, 2, 2}), 3.0, kTol);
 }

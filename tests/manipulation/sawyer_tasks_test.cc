@@ -179,6 +179,10 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
   const int left = mj_name2id(m, mjOBJ_SITE, "left_pad_site");
   const int right = mj_name2id(m, mjOBJ_SITE, "right_pad_site");
   const int obj = mj_name2id(m, mjOBJ_BODY, "obj");
+  // A task whose observed object point is not the body's origin marks it
+  // with the site "obj_point" (e.g. peg-insert-side's grasp point).
+  const int obj_point = mj_name2id(m, mjOBJ_SITE, "obj_point");
+  const mjtNum* obj_pos = obj_point >= 0 ? d->site_xpos + 3 * obj_point : d->xpos + 3 * obj;
   const int goal = mj_name2id(m, mjOBJ_BODY, "goal");
   for (int t = 0; t < 20; ++t) {
     policy.Act(obs.env_obs, obs.task_obs, action);
@@ -187,7 +191,7 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
     const auto& o = obs.env_obs;
     for (int i = 0; i < 3; ++i) {
       EXPECT_FLOAT_EQ(o[kObsHand + i], static_cast<float>(d->site_xpos[3 * hand + i]));
-      EXPECT_FLOAT_EQ(o[kObsObj1Pos + i], static_cast<float>(d->xpos[3 * obj + i]));
+      EXPECT_FLOAT_EQ(o[kObsObj1Pos + i], static_cast<float>(obj_pos[i]));
       EXPECT_FLOAT_EQ(o[kObsGoal + i], static_cast<float>(d->xpos[3 * goal + i]));
       EXPECT_FLOAT_EQ(obs.task_obs[i], o[kObsGoal + i]);
     }

@@ -35,6 +35,9 @@ def state_record(env, obs):
         "hand_init": vec(env.hand_init_pos),
         "gripper_opening": float(obs[3]),
         "touching_obj": touching(env),
+        # peg-insert-side
+        "obj_head": vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else [0.0] * 3,
+        "obj_head_init": vec(getattr(env, "peg_head_pos_init", np.zeros(3))),
     }
 
 
@@ -48,10 +51,15 @@ def touching(env):
         return False
 
 
+# Scripted policies whose class name does not follow the task's name.
+POLICY_NAMES = {"peg-insert-side": "SawyerPegInsertionSideV3Policy"}
+
+
 def policy_for(task):
     import metaworld.policies as policies
 
-    name = "Sawyer" + "".join(part.capitalize() for part in re.split(r"[-_]", task)) + "V3Policy"
+    name = POLICY_NAMES.get(task) or (
+        "Sawyer" + "".join(part.capitalize() for part in re.split(r"[-_]", task)) + "V3Policy")
     return getattr(policies, name)()
 
 

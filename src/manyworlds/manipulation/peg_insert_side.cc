@@ -9,14 +9,44 @@
 namespace manyworlds::manipulation {
 namespace {
 
-constexpr double kHalfLength = 0.1;   // peg centre to head
-constexpr double kHoleHeight = 0.13;  // hole axis above the box base
-constexpr double kSuccessRadius = 0.07;
+constexpr double kHalfLength = 0.1;  // peg centre to head
+// Meta-World v3: the goal is box + (0.03, 0, 0.13), 6.6 cm inside the box's
+// front face (x = +0.096 from the box); success weights y and z twice.
+constexpr Vec3 kGoalOnBox{0.03, 0.0, 0.13};
+constexpr double kTargetRadius = 0.07;  // success, and the in-place tolerance
+constexpr Vec3 kYzTwice{1.0, 2.0, 2.0};
 constexpr double kHoleClearance = 0.01;  // per side, around the peg
-constexpr double kMouthToGoal = 0.075;   // the goal's depth in the hole
+constexpr double kMouthToGoal = 0.066;   // front face to goal, in x
 // The policy lines the head up this far in front of the goal before
 // pushing in.
 constexpr double kPreInsert = 0.12;
+// v3's observed object point ("pegGrasp"), in the peg's frame.
+constexpr Vec3 kGraspPoint{0.03, 0.0, 0.01};
+// v3 reads the head's "initial" position before it moves the peg to the
+// variation, so its in-place margin starts from the peg's default pose,
+// this point, in every variation. We use the same point.
+constexpr Vec3 kV3HeadInit{-0.1, 0.6, 0.0147847};
+// v3's two prisms in front of the face, below and above the hole, relative
+// to the goal (corner "zero", corner "one"): a head inside them loses
+// in-place reward.
+constexpr Vec3 kBelowZero{0.0800796, 0.0999124, -0.12}, kBelowOne{0.1199203, -0.1001194, -0.034};
+constexpr Vec3 kAboveZero{0.0800796, 0.0999124, 0.03}, kAboveOne{0.1399203, -0.1001353, 0.06};
+
+Vec3 Plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+
+// The peg frame's point `local` given the frame's origin and (x, y, z, w)
+// quaternion.
+Vec3 PegPoint(const Vec3& origin, const float* q, const Vec3& local) {
+  const double qx = q[0], qy = q[1], qz = q[2], qw = q[3];
+  const double r[3][3] = {{1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy - qw * qz), 2 * (qx * qz + qw * qy)},
+                          {2 * (qx * qy + qw * qz), 1 - 2 * (qx * qx + qz * qz), 2 * (qy * qz - qw * qx)},
+                          {2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx * qx + qy * qy)}};
+  Vec3 p = origin;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) p[i] += r[i][j] * local[j];
+  }
+  return p;
+}
 
 }  // namespace
 
@@ -27,52 +57,60 @@ SawyerTaskConfig PegInsertSide::Config() {
   config.xml_file = "peg_insert_side.xml";
   config.obj_low = {0.0, 0.5, 0.02};
   config.obj_high = {0.2, 0.7, 0.02};
-  config.goal_low = {-0.35, 0.4, kHoleHeight};
-  config.goal_high = {-0.25, 0.7, kHoleHeight};
+  // v3 draws the box in (-0.35, 0.4, 0)-(-0.25, 0.7, 0); the goal is
+  // kGoalOnBox from it. Its 0.1 m peg-box rule never binds (x gap >= 0.25).
+  config.goal_low = {-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]};
+  config.goal_high = {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]};
+  config.min_obj_goal_xy = 0.0;
   return config;
 }
 
 PegInsertSide::PegInsertSide(SawyerOptions options) : SawyerTask(Config(), options) {
   const sim::IdLookup ids(model(), config().xml_file);
   peg_head_ = ids.Site("peg_head");
+  peg_grasp_ = ids.Site("obj_point");
   box_ = ids.Body("box");
 }
 
 void PegInsertSide::PlaceObjects(mjModel* m, mjData* d) {
   SawyerTask::PlaceObjects(m, d);
   const Vec3& goal = goal_pos();
-  PlaceFixture(m, box_, {goal[0], goal[1], goal[2] - kHoleHeight});
+  PlaceFixture(m, box_, {goal[0] - kGoalOnBox[0], goal[1] - kGoalOnBox[1], goal[2] - kGoalOnBox[2]});
+}
+
+void PegInsertSide::RefreshTaskState(const mjData* d, SawyerState& state) const {
+  state.obj = SitePosition(d, peg_grasp_);
+  state.obj_head = SitePosition(d, peg_head_);
+  state.obj_head_init = kV3HeadInit;
 }
 
 RewardTerms PegInsertSide::ComputeReward(const SawyerState& s,
                                          std::span<const float> action) const {
-  const Vec3 head = SitePosition(data(), peg_head_);
-  // The peg starts upright, so its head starts half a length toward -x.
-  const Vec3 head_init{s.obj_init[0] - kHalfLength, s.obj_init[1], s.obj_init[2]};
-  const double obj_to_target = Distance(head, s.goal);
+  const double obj_to_target = WeightedDistance(s.obj_head, s.goal, kYzTwice);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-
-  const Vec3 weights{1.0, 2.0, 2.0};
-  const double to_goal = LongTailTolerance(WeightedDistance(head, s.goal, weights), 0.0, 0.05,
-                                           WeightedDistance(head_init, s.goal, weights));
-  const double off_axis = std::hypot(head[1] - s.goal[1], head[2] - s.goal[2]);
-  const double on_axis = LongTailTolerance(off_axis, 0.0, kHoleClearance, 0.1);
-  const double in_place = HamacherProduct(to_goal, on_axis);
+  const double to_goal = LongTailTolerance(obj_to_target, 0.0, kTargetRadius,
+                                           WeightedDistance(s.obj_head_init, s.goal, kYzTwice));
+  const double walls =
+      HamacherProduct(RectPrismTolerance(s.obj_head, Plus(s.goal, kAboveZero), Plus(s.goal, kAboveOne)),
+                      RectPrismTolerance(s.obj_head, Plus(s.goal, kBelowZero), Plus(s.goal, kBelowOne)));
+  const double in_place = HamacherProduct(to_goal, walls);
 
   CagingParams caging;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.05;
+  caging.obj_radius = 0.0075;
+  caging.pad_success_thresh = 0.03;
+  caging.object_reach_radius = 0.01;
   caging.xz_thresh = 0.005;
   caging.high_density = true;
-  const double grasped = CageObject(s, s.obj, action[3], caging);
+  const bool held = HeldAndLifted(s, 0.08, 0.01);
+  const double grasped = held ? 1.0 : CageObject(s, s.obj, action[3], caging);
 
   RewardTerms terms;
   terms.reward = HamacherProduct(grasped, in_place);
-  if (HeldAndLifted(s, 0.03, 0.01)) terms.reward += 1.0 + 5.0 * in_place;
-  terms.success = obj_to_target <= kSuccessRadius;
+  if (held) terms.reward += 1.0 + 5.0 * in_place;
+  terms.success = obj_to_target <= kTargetRadius;
   if (terms.success) terms.reward = 10.0;
   terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_success = HeldAndLifted(s, 0.02, 0.01) ? 1.0 : 0.0;
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
@@ -82,13 +120,10 @@ RewardTerms PegInsertSide::ComputeReward(const SawyerState& s,
 void PegInsertSideScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                       std::span<float> action) {
   const SawyerObs o(env_obs);
-  // The peg's x axis from its (x, y, z, w) quaternion; the head is half a
-  // length back along it.
-  const double qx = env_obs[kObsObj1Quat], qy = env_obs[kObsObj1Quat + 1],
-               qz = env_obs[kObsObj1Quat + 2], qw = env_obs[kObsObj1Quat + 3];
-  const Vec3 axis{1 - 2 * (qy * qy + qz * qz), 2 * (qx * qy + qw * qz), 2 * (qx * qz - qw * qy)};
-  Vec3 head;
-  for (int i = 0; i < 3; ++i) head[i] = o.obj1[i] - kHalfLength * axis[i];
+  // The observed point is the grasp point; the head is found from it and
+  // the peg's (x, y, z, w) quaternion.
+  const Vec3 head = PegPoint(o.obj1, env_obs.data() + kObsObj1Quat,
+                             {-kHalfLength - kGraspPoint[0], -kGraspPoint[1], -kGraspPoint[2]});
 
   const Vec3& goal = o.goal;
   const double off_axis = std::hypot(head[1] - goal[1], head[2] - goal[2]);

@@ -35,9 +35,11 @@ class PegInsertSide : public SawyerTask {
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
+  void RefreshTaskState(const mjData* d, SawyerState& state) const override;
 
  private:
-  int peg_head_ = -1;  // site
+  int peg_head_ = -1;   // site
+  int peg_grasp_ = -1;  // site: the observed object point
   int box_ = -1;       // body
 };
 

@@ -18,6 +18,16 @@ double LongTailTolerance(double x, double low, double high, double margin) {
   return 1.0 / (9.0 * d * d + 1.0);
 }
 
+double RectPrismTolerance(const Vec3& x, const Vec3& zero, const Vec3& one) {
+  double product = 1.0;
+  for (int i = 0; i < 3; ++i) {
+    const double lo = std::min(zero[i], one[i]), hi = std::max(zero[i], one[i]);
+    if (!(x[i] >= lo && x[i] <= hi)) return 1.0;
+    product *= (x[i] - zero[i]) / (one[i] - zero[i]);
+  }
+  return product;
+}
+
 double HamacherProduct(double a, double b) {
   a = std::clamp(a, 0.0, 1.0);
   b = std::clamp(b, 0.0, 1.0);

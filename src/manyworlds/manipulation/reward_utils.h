@@ -21,6 +21,11 @@ double LongTailTolerance(double x, double low, double high, double margin);
 // (values outside are clamped).
 double HamacherProduct(double a, double b);
 
+// Meta-World's prism tolerance: inside the axis-aligned box with corners
+// `zero` and `one`, the product over axes of (x - zero) / (one - zero)
+// (0 at the `zero` corner, 1 at `one`); 1 outside the box.
+double RectPrismTolerance(const Vec3& x, const Vec3& zero, const Vec3& one);
+
 // Geometry the caging reward reads: current positions and the episode's
 // initial ones.
 struct CagingInputs {

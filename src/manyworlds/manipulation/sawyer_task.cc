@@ -289,7 +289,8 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
     clipped[i] = std::clamp(action[i], -1.0f, 1.0f);
   }
   for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
-                        &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init}) {
+                        &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init,
+                        &state.obj_head, &state.obj_head_init}) {
     for (double x : *v) {
       if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
     }
@@ -318,6 +319,7 @@ void SawyerTask::RefreshState() {
       break;
     }
   }
+  RefreshTaskState(d, state_);
 }
 
 void SawyerTask::WriteFrame(float* frame) const {

@@ -101,12 +101,16 @@ struct SawyerState {
   Vec3 hand_init{};  // the configured hand start [hand_init_pos]
   double gripper_opening = 0;  // obs[3]
   bool touching_obj = false;   // pads in contact with the object [touching_main_object]
+  // peg-insert-side (zeros elsewhere)
+  Vec3 obj_head{};       // the peg's head [site "pegHead"]
+  Vec3 obj_head_init{};  // [peg_head_pos_init]
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
 inline constexpr const char* kSawyerStateFields[] = {
     "hand",     "tcp",      "left_pad",  "right_pad",       "obj",         "goal",
-    "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj"};
+    "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj",
+    "obj_head", "obj_head_init"};
 
 // One step's reward and info values.
 struct RewardTerms {
@@ -170,6 +174,10 @@ class SawyerTask : public Env {
   // obj_pos(). A fixture may move its own body in the model (m->body_pos):
   // every env owns its model.
   virtual void PlaceObjects(mjModel* m, mjData* d);
+  // Task-specific fields of the state record, and a task's own object
+  // point (state.obj, obs[4:7]) where it is not the body "obj"'s origin;
+  // called after every reset and step once the shared fields are set.
+  virtual void RefreshTaskState(const mjData* /*d*/, SawyerState& /*state*/) const {}
   // obs[11:18]: position and (x, y, z, w) quaternion of a second object.
   // Default: zeros (no second object).
   virtual void WriteObject2(const mjData* d, float* pos_quat) const;
