@@ -1,10 +1,12 @@
 #include "manyworlds/agents/replay_buffer.h"
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -243,6 +245,57 @@ TEST(ReplayBufferTest, CorruptOrMismatchedSnapshotsFailClearlyAndChangeNothing) 
   }
   std::filesystem::remove(path);
   EXPECT_THROW(from_file.LoadFile(path), Error);
+}
+
+// Nine transitions over tasks 0 and 1 of a (12, 3, 2, 3) buffer: task 0
+// wrapped (5 into 4 rows), task 1 full, task 2 empty.
+ReplayBuffer FixedBuffer() {
+  ReplayBuffer replay(12, 3, 2, 3);
+  for (int k = 0; k < 9; ++k) {
+    const std::vector<float> obs = {float(k), float(k) + 0.5f, -float(k)};
+    const std::vector<float> action = {0.25f * k, -1.0f};
+    const std::vector<float> next = {1.0f, 2.0f, float(k)};
+    replay.Add(k % 2, obs, action, 0.125f * k, next, k % 3 == 0);
+  }
+  return replay;
+}
+
+// The bytes of a snapshot did not change when its reader and writer moved to
+// replay_snapshot.cc (torch-free, so that the fuzz build reads it): the
+// checksum below is that of the snapshot the earlier code wrote. (The format
+// stores this machine's byte order; this is a little-endian figure.)
+TEST(ReplayBufferTest, SnapshotBytesAreThoseOfTheFormat) {
+  std::stringstream out;
+  FixedBuffer().Save(out);
+  const std::string bytes = out.str();
+  EXPECT_EQ(bytes.size(), 488u);
+  EXPECT_EQ(ReplaySnapshotChecksum(bytes), 0x4c14fb91f53906b7ULL);
+}
+
+// A snapshot resealed by hand after an edit (a checksum finds damage, not
+// edits): the rows are checked too, and the buffer keeps what it held.
+TEST(ReplayBufferTest, AResealedSnapshotWithAForeignTaskIndexIsRefused) {
+  std::stringstream out;
+  FixedBuffer().Save(out);
+  std::string bytes = out.str();
+  // header 48 bytes, sizes and ring positions 48, task 0's 4 rows of 10
+  // floats 160: its first task index is at 256
+  const int64_t foreign = 1;
+  std::memcpy(bytes.data() + 256, &foreign, sizeof(foreign));
+  const uint64_t sum = ReplaySnapshotChecksum(std::string_view(bytes).substr(0, bytes.size() - 8));
+  std::memcpy(bytes.data() + bytes.size() - 8, &sum, sizeof(sum));
+  ReplayBuffer target(12, 3, 2, 3);
+  AddTransition(target, 2, 5);
+  std::stringstream in(bytes);
+  try {
+    target.Load(in);
+    ADD_FAILURE() << "a foreign task index was loaded";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("foreign task index in task 0"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(target.size(), 1);
+  EXPECT_EQ(target.size(2), 1);
 }
 
 TEST(ReplayBufferTest, RejectsBadArguments) {

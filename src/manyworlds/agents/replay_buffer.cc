@@ -1,12 +1,9 @@
 #include "manyworlds/agents/replay_buffer.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
-#include <istream>
-#include <ostream>
 #include <string>
 
 #include "manyworlds/core/error.h"
@@ -14,144 +11,6 @@
 
 namespace manyworlds::agents {
 namespace {
-
-// snapshot layout (all integers little-endian as stored by this machine;
-// the endianness marker rejects a foreign byte order):
-//   "MWREPLAY" | u32 version | u32 0x01020304 | i64 obs_dim, action_dim,
-//   num_tasks, capacity_per_task | i64 size[num_tasks] | i64 next[num_tasks]
-//   | per task: its stored rows of obs, action, reward, next_obs, done,
-//   task_index | u64 checksum of every byte before it
-constexpr std::array<char, 8> kMagic = {'M', 'W', 'R', 'E', 'P', 'L', 'A', 'Y'};
-constexpr uint32_t kVersion = 1;
-constexpr uint32_t kEndianMarker = 0x01020304;
-
-// A fast 64-bit checksum over a byte stream (words of 8 bytes, multiply-xor
-// mixing); detects truncation and bit flips, not an adversary.
-class Checksum {
- public:
-  void Update(const void* data, size_t n) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    while (n > 0 && pending_ > 0) {
-      Push(*p++);
-      --n;
-    }
-    while (n >= 8) {
-      uint64_t word;
-      std::memcpy(&word, p, 8);
-      Mix(word);
-      p += 8;
-      n -= 8;
-    }
-    while (n > 0) {
-      Push(*p++);
-      --n;
-    }
-  }
-  uint64_t Digest() const {
-    uint64_t h = h_;
-    if (pending_ > 0) {
-      uint64_t word = 0;
-      std::memcpy(&word, buffer_.data(), pending_);
-      h = MixInto(h, word ^ (uint64_t{pending_} << 56));
-    }
-    h ^= count_;
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdULL;
-    h ^= h >> 33;
-    return h;
-  }
-
- private:
-  static uint64_t MixInto(uint64_t h, uint64_t word) {
-    h ^= word;
-    h *= 0x9e3779b97f4a7c15ULL;
-    h ^= h >> 29;
-    return h;
-  }
-  void Mix(uint64_t word) {
-    h_ = MixInto(h_, word);
-    count_ += 8;
-  }
-  void Push(unsigned char c) {
-    buffer_[pending_++] = c;
-    if (pending_ == 8) {
-      uint64_t word;
-      std::memcpy(&word, buffer_.data(), 8);
-      Mix(word);
-      pending_ = 0;
-    }
-  }
-
-  uint64_t h_ = 0x6a09e667f3bcc909ULL;
-  uint64_t count_ = 0;
-  std::array<unsigned char, 8> buffer_{};
-  size_t pending_ = 0;
-};
-
-class Writer {
- public:
-  explicit Writer(std::ostream& out) : out_(out) {}
-  void Bytes(const void* data, size_t n) {
-    out_.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
-    if (!out_) throw Error("ReplayBuffer::Save: write failed");
-    checksum_.Update(data, n);
-  }
-  template <typename T>
-  void Value(T value) {
-    Bytes(&value, sizeof(T));
-  }
-  void Rows(const torch::Tensor& t, int64_t first, int64_t count) {
-    if (count == 0) return;
-    const torch::Tensor rows = t.narrow(0, first, count);
-    Bytes(rows.data_ptr(), rows.nbytes());
-  }
-  void Finish() {
-    const uint64_t digest = checksum_.Digest();
-    out_.write(reinterpret_cast<const char*>(&digest), sizeof(digest));
-    out_.flush();
-    if (!out_) throw Error("ReplayBuffer::Save: write failed");
-  }
-
- private:
-  std::ostream& out_;
-  Checksum checksum_;
-};
-
-class Reader {
- public:
-  explicit Reader(std::istream& in) : in_(in) {}
-  void Bytes(void* data, size_t n) {
-    in_.read(static_cast<char*>(data), static_cast<std::streamsize>(n));
-    if (static_cast<size_t>(in_.gcount()) != n) {
-      throw Error("ReplayBuffer::Load: the snapshot is truncated");
-    }
-    checksum_.Update(data, n);
-  }
-  template <typename T>
-  T Value() {
-    T value;
-    Bytes(&value, sizeof(T));
-    return value;
-  }
-  void Into(torch::Tensor& t) {
-    if (t.numel() > 0) Bytes(t.data_ptr(), t.nbytes());
-  }
-  void Finish() {
-    const uint64_t expected = checksum_.Digest();
-    uint64_t stored = 0;
-    in_.read(reinterpret_cast<char*>(&stored), sizeof(stored));
-    if (in_.gcount() != sizeof(stored)) {
-      throw Error("ReplayBuffer::Load: the snapshot is truncated (no checksum)");
-    }
-    if (stored != expected) {
-      throw Error("ReplayBuffer::Load: checksum mismatch; the snapshot is corrupt");
-    }
-  }
-
- private:
-  std::istream& in_;
-  Checksum checksum_;
-};
 
 void CheckSize(std::string_view what, size_t got, int64_t want) {
   if (static_cast<int64_t>(got) != want) {
@@ -381,96 +240,46 @@ const Batch& ReplayBuffer::Gather() {
   return batch_;
 }
 
+ReplayShape ReplayBuffer::shape() const {
+  return {obs_dim_, action_dim_, num_tasks_, capacity_per_task_};
+}
+
 void ReplayBuffer::Save(std::ostream& out) const {
-  Writer w(out);
-  w.Bytes(kMagic.data(), kMagic.size());
-  w.Value(kVersion);
-  w.Value(kEndianMarker);
-  w.Value(obs_dim_);
-  w.Value(action_dim_);
-  w.Value(num_tasks_);
-  w.Value(capacity_per_task_);
-  for (int64_t s : size_) w.Value(s);
-  for (int64_t n : next_) w.Value(n);
+  std::vector<ReplayTaskView> tasks(static_cast<size_t>(num_tasks_));
   for (int64_t t = 0; t < num_tasks_; ++t) {
     const int64_t first = Row(t, 0);
-    w.Rows(storage_.obs, first, size_[t]);
-    w.Rows(storage_.action, first, size_[t]);
-    w.Rows(storage_.reward, first, size_[t]);
-    w.Rows(storage_.next_obs, first, size_[t]);
-    w.Rows(storage_.done, first, size_[t]);
-    w.Rows(storage_.task_index, first, size_[t]);
+    ReplayTaskView& view = tasks[t];
+    view.size = size_[t];
+    view.next = next_[t];
+    view.obs = storage_.obs.data_ptr<float>() + first * obs_dim_;
+    view.action = storage_.action.data_ptr<float>() + first * action_dim_;
+    view.reward = storage_.reward.data_ptr<float>() + first;
+    view.next_obs = storage_.next_obs.data_ptr<float>() + first * obs_dim_;
+    view.done = storage_.done.data_ptr<float>() + first;
+    view.task_index = storage_.task_index.data_ptr<int64_t>() + first;
   }
-  w.Finish();
+  WriteReplaySnapshot(out, shape(), tasks);
 }
 
 void ReplayBuffer::Load(std::istream& in) {
-  Reader r(in);
-  std::array<char, 8> magic{};
-  r.Bytes(magic.data(), magic.size());
-  if (magic != kMagic) throw Error("ReplayBuffer::Load: not a replay buffer snapshot");
-  const auto version = r.Value<uint32_t>();
-  if (version != kVersion) {
-    throw Error("ReplayBuffer::Load: snapshot format version " + std::to_string(version) +
-                ", this build reads version " + std::to_string(kVersion));
-  }
-  if (r.Value<uint32_t>() != kEndianMarker) {
-    throw Error("ReplayBuffer::Load: the snapshot was written with another byte order");
-  }
-  const std::array<int64_t, 4> want = {obs_dim_, action_dim_, num_tasks_, capacity_per_task_};
-  const std::array<const char*, 4> names = {"obs_dim", "action_dim", "num_tasks",
-                                            "capacity_per_task"};
-  for (size_t i = 0; i < want.size(); ++i) {
-    const auto got = r.Value<int64_t>();
-    if (got != want[i]) {
-      throw Error(std::string("ReplayBuffer::Load: the snapshot has ") + names[i] + " " +
-                  std::to_string(got) + ", this buffer " + std::to_string(want[i]));
+  // everything is read and checked before this buffer changes
+  const std::vector<ReplayTaskRows> tasks = ReadReplaySnapshot(in, shape());
+  auto copy = [](const std::vector<float>& from, torch::Tensor& to, int64_t offset) {
+    if (!from.empty()) {
+      std::memcpy(to.data_ptr<float>() + offset, from.data(), from.size() * sizeof(float));
     }
-  }
-  std::vector<int64_t> size(num_tasks_), next(num_tasks_);
-  for (auto& s : size) s = r.Value<int64_t>();
-  for (auto& n : next) n = r.Value<int64_t>();
+  };
   for (int64_t t = 0; t < num_tasks_; ++t) {
-    const bool ok = size[t] >= 0 && size[t] <= capacity_per_task_ && next[t] >= 0 &&
-                    next[t] < capacity_per_task_ &&
-                    (size[t] == capacity_per_task_ || next[t] == size[t]);
-    if (!ok) {
-      throw Error("ReplayBuffer::Load: the snapshot is corrupt (task " + std::to_string(t) +
-                  " has size " + std::to_string(size[t]) + ", next " + std::to_string(next[t]) +
-                  ")");
-    }
-  }
-  // read into staging tensors so that a failure leaves this buffer as it was
-  std::vector<Storage> staged;
-  staged.reserve(num_tasks_);
-  for (int64_t t = 0; t < num_tasks_; ++t) {
-    Storage s = Allocate(size[t], obs_dim_, action_dim_);
-    r.Into(s.obs);
-    r.Into(s.action);
-    r.Into(s.reward);
-    r.Into(s.next_obs);
-    r.Into(s.done);
-    r.Into(s.task_index);
-    staged.push_back(std::move(s));
-  }
-  r.Finish();
-  for (int64_t t = 0; t < num_tasks_; ++t) {
-    if (size[t] > 0 && !staged[t].task_index.eq(t).all().item<bool>()) {
-      throw Error("ReplayBuffer::Load: the snapshot is corrupt (foreign task index in task " +
-                  std::to_string(t) + ")");
-    }
-  }
-  for (int64_t t = 0; t < num_tasks_; ++t) {
-    if (size[t] == 0) continue;
+    const ReplayTaskRows& task = tasks[t];
     const int64_t first = Row(t, 0);
-    storage_.obs.narrow(0, first, size[t]).copy_(staged[t].obs);
-    storage_.action.narrow(0, first, size[t]).copy_(staged[t].action);
-    storage_.reward.narrow(0, first, size[t]).copy_(staged[t].reward);
-    storage_.next_obs.narrow(0, first, size[t]).copy_(staged[t].next_obs);
-    storage_.done.narrow(0, first, size[t]).copy_(staged[t].done);
+    copy(task.obs, storage_.obs, first * obs_dim_);
+    copy(task.action, storage_.action, first * action_dim_);
+    copy(task.reward, storage_.reward, first);
+    copy(task.next_obs, storage_.next_obs, first * obs_dim_);
+    copy(task.done, storage_.done, first);
+    size_[t] = task.size;
+    next_[t] = task.next;
   }
-  size_ = std::move(size);
-  next_ = std::move(next);
 }
 
 void ReplayBuffer::SaveFile(const std::filesystem::path& path) const {

@@ -40,6 +40,7 @@
 #include <torch/torch.h>
 
 #include "manyworlds/agents/batch.h"
+#include "manyworlds/agents/replay_snapshot.h"
 
 namespace manyworlds::agents {
 
@@ -79,6 +80,8 @@ class ReplayBuffer {
   int64_t action_dim() const { return action_dim_; }
   int64_t num_tasks() const { return num_tasks_; }
   int64_t capacity_per_task() const { return capacity_per_task_; }
+  // The dims and partition size, as a snapshot records them.
+  ReplayShape shape() const;
   // Rows actually allocated: capacity_per_task * num_tasks.
   int64_t capacity() const { return capacity_per_task_ * num_tasks_; }
   int64_t size() const;                 // transitions stored, all tasks
@@ -95,8 +98,8 @@ class ReplayBuffer {
   void ClearTask(int64_t task);
 
   // Binary snapshot of the stored transitions and ring positions, with a
-  // header (format, dims, partition size) and a checksum. Throws Error if the
-  // stream fails.
+  // header (format, dims, partition size) and a checksum (the format:
+  // replay_snapshot.h). Throws Error if the stream fails.
   void Save(std::ostream& out) const;
   // Restores a Save. Throws Error, leaving this buffer unchanged, if the data
   // is not a replay snapshot, is truncated or corrupt (checksum), or was
