@@ -1,5 +1,7 @@
 #include "manyworlds/manipulation/reward_utils.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 namespace manyworlds::manipulation {
@@ -17,6 +19,15 @@ TEST(LongTailToleranceTest, MatchesHandComputedValues) {
   // d = 2: 1 / 37
   EXPECT_NEAR(LongTailTolerance(0.25, 0.0, 0.05, 0.1), 1.0 / 37.0, kTol);
   EXPECT_EQ(LongTailTolerance(0.06, 0.0, 0.05, 0.0), 0.0);  // no margin
+}
+
+TEST(GaussianToleranceTest, MatchesHandComputedValues) {
+  EXPECT_EQ(GaussianTolerance(0.03, 0.0, 0.05, 0.1), 1.0);              // inside
+  EXPECT_NEAR(GaussianTolerance(0.15, 0.0, 0.05, 0.1), 0.1, kTol);      // d = 1
+  EXPECT_NEAR(GaussianTolerance(0.10, 0.0, 0.05, 0.1), std::pow(0.1, 0.25), kTol);  // d = 0.5
+  EXPECT_NEAR(GaussianTolerance(0.0, 0.02, 0.05, 0.04), std::pow(0.1, 0.25), kTol);  // below low
+  EXPECT_NEAR(GaussianTolerance(0.25, 0.0, 0.05, 0.1), 1e-4, kTol);     // d = 2: 0.1^4
+  EXPECT_EQ(GaussianTolerance(0.06, 0.0, 0.05, 0.0), 0.0);              // no margin
 }
 
 TEST(HamacherProductTest, MatchesHandComputedValues) {

@@ -28,6 +28,15 @@ double RectPrismTolerance(const Vec3& x, const Vec3& zero, const Vec3& one) {
   return product;
 }
 
+double GaussianTolerance(double x, double low, double high, double margin) {
+  if (x >= low && x <= high) return 1.0;
+  if (margin <= 0) return 0.0;
+  const double d = (x < low ? low - x : x - high) / margin;
+  // exp(-s^2 / 2) = 0.1 at d = 1.
+  const double scale = std::sqrt(-2.0 * std::log(0.1));
+  return std::exp(-0.5 * (d * scale) * (d * scale));
+}
+
 double HamacherProduct(double a, double b) {
   a = std::clamp(a, 0.0, 1.0);
   b = std::clamp(b, 0.0, 1.0);

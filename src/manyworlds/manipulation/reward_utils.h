@@ -1,5 +1,6 @@
 // Shaped-reward primitives shared by the Sawyer tasks (metaworld.md §3.1):
-// a long-tail tolerance, the Hamacher product, and the gripper-caging term.
+// long-tail and gaussian tolerances, the Hamacher product, and the
+// gripper-caging term.
 // All return values lie in [0, 1].
 #ifndef MANYWORLDS_MANIPULATION_REWARD_UTILS_H_
 #define MANYWORLDS_MANIPULATION_REWARD_UTILS_H_
@@ -16,6 +17,11 @@ double Distance(const Vec3& a, const Vec3& b);
 // divided by `margin`, returns 1 / (9 d^2 + 1): the long-tail sigmoid scaled
 // to be 0.1 at d = 1. With margin == 0 it is 0 outside the bounds.
 double LongTailTolerance(double x, double low, double high, double margin);
+
+// 1 inside [low, high]. Outside, with d as above, returns 0.1^(d^2) =
+// exp(-(d s)^2 / 2) with s^2 = -2 ln 0.1: the gaussian sigmoid scaled to be
+// 0.1 at d = 1. With margin == 0 it is 0 outside the bounds.
+double GaussianTolerance(double x, double low, double high, double margin);
 
 // Hamacher t-norm a b / (a + b - a b); 0 when both are 0. Inputs in [0, 1]
 // (values outside are clamped).
