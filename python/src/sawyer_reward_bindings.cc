@@ -62,6 +62,9 @@ SawyerState ReadRecord(const py::dict& record) {
   s.touching_obj = record["touching_obj"].cast<bool>();
   s.obj_head = ReadVec3(record, "obj_head");
   s.obj_head_init = ReadVec3(record, "obj_head_init");
+  s.joint_qpos = record["joint_qpos"].cast<double>();
+  s.handle_init = ReadVec3(record, "handle_init");
+  s.obj_to_target_init = record["obj_to_target_init"].cast<double>();
   return s;
 }
 
@@ -106,6 +109,9 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["touching_obj"] = s.touching_obj;
   out["obj_head"] = vec(s.obj_head);
   out["obj_head_init"] = vec(s.obj_head_init);
+  out["joint_qpos"] = s.joint_qpos;
+  out["handle_init"] = vec(s.handle_init);
+  out["obj_to_target_init"] = s.obj_to_target_init;
   return out;
 }
 #endif

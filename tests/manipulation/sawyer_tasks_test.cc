@@ -197,9 +197,20 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
     }
     const double pads = mju_dist3(d->site_xpos + 3 * left, d->site_xpos + 3 * right);
     EXPECT_FLOAT_EQ(o[kObsGripper], static_cast<float>(std::min(1.0, pads / 0.1)));
-    // (x, y, z, w) from MuJoCo's (w, x, y, z).
-    EXPECT_FLOAT_EQ(o[kObsObj1Quat + 3], static_cast<float>(d->xquat[4 * obj]));
-    EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * obj + 1]));
+    // From MuJoCo's (w, x, y, z), in the task's layout.
+    switch (task().config().obj_quat) {
+      case QuatLayout::kXyzw:
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 3], static_cast<float>(d->xquat[4 * obj]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * obj + 1]));
+        break;
+      case QuatLayout::kWxyz:
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * obj]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 1], static_cast<float>(d->xquat[4 * obj + 1]));
+        break;
+      case QuatLayout::kZeros:
+        for (int i = 0; i < 4; ++i) EXPECT_EQ(o[kObsObj1Quat + i], 0.0f);
+        break;
+    }
     for (int i = kObsObj2Pos; i < kObsFrame; ++i) EXPECT_EQ(o[i], 0.0f);
     for (int i = 0; i < kObsFrame; ++i) EXPECT_EQ(o[kObsPrev + i], previous[i]);
   }

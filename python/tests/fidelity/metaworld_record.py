@@ -20,7 +20,15 @@ import re
 import numpy as np
 
 
-def state_record(env, obs):
+# Articulated tasks: where v3 keeps the fixture quantities its reward reads; the record holds
+# neutral zeros for tasks that have none.
+JOINT_QPOS = {"door-open": "doorjoint", "door-close": "doorjoint", "lever-pull": "LeverAxis"}
+HANDLE_INIT = {"window-open": "window_handle_pos_init", "window-close": "window_handle_pos_init",
+               "lever-pull": "_lever_pos_init"}
+OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init"}
+
+
+def state_record(env, obs, task=None):
     """manyworlds' SawyerState fields, read the way Meta-World v3's reward code reads them."""
     vec = lambda v: [float(x) for x in np.asarray(v, dtype=np.float64)]
     return {
@@ -38,6 +46,12 @@ def state_record(env, obs):
         # peg-insert-side
         "obj_head": vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else [0.0] * 3,
         "obj_head_init": vec(getattr(env, "peg_head_pos_init", np.zeros(3))),
+        # articulated tasks
+        "joint_qpos": (float(env.data.joint(JOINT_QPOS[task]).qpos.item())
+                       if task in JOINT_QPOS else 0.0),
+        "handle_init": vec(getattr(env, HANDLE_INIT[task]) if task in HANDLE_INIT else np.zeros(3)),
+        "obj_to_target_init": (float(getattr(env, OBJ_TO_TARGET_INIT[task]))
+                               if task in OBJ_TO_TARGET_INIT else 0.0),
     }
 
 
@@ -85,7 +99,7 @@ def record_task(task, goals, steps, seed, reward_version):
                 rows.append({
                     "task": task,
                     "mode": mode,
-                    "state": state_record(env, obs),
+                    "state": state_record(env, obs, task),
                     "action": [float(a) for a in action],
                     "reward": float(reward),
                     "info": {k: float(v) for k, v in info.items()},

@@ -187,6 +187,7 @@ void SawyerTask::DoReset(const ObsView& out) {
   state_.obj_init = obj_pos_;
   RefreshState();
   state_.tcp_init = state_.tcp;
+  InitTaskState(state_);
   WriteFrame(prev_frame_);
   WriteObs(out.env_obs);
 }
@@ -290,13 +291,16 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   }
   for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
                         &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init,
-                        &state.obj_head, &state.obj_head_init}) {
+                        &state.obj_head, &state.obj_head_init, &state.handle_init}) {
     for (double x : *v) {
       if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
     }
   }
   if (!std::isfinite(state.gripper_opening)) {
     throw Error("env '" + config_.id + "': EvaluateReward: gripper_opening is not finite");
+  }
+  if (!std::isfinite(state.joint_qpos) || !std::isfinite(state.obj_to_target_init)) {
+    throw Error("env '" + config_.id + "': EvaluateReward: joint_qpos or obj_to_target_init is not finite");
   }
   return ComputeReward(state, clipped);
 }
@@ -330,12 +334,16 @@ void SawyerTask::WriteFrame(float* frame) const {
   }
   frame[kObsGripper] = static_cast<float>(state_.gripper_opening);
   for (int i = 0; i < 3; ++i) frame[kObsObj1Pos + i] = static_cast<float>(state_.obj[i]);
-  // MuJoCo stores (w, x, y, z); the observation uses (x, y, z, w).
+  // MuJoCo stores (w, x, y, z); the observation uses the task's layout.
   const mjtNum* q = d->xquat + 4 * obj_body_;
-  frame[kObsObj1Quat + 0] = static_cast<float>(q[1]);
-  frame[kObsObj1Quat + 1] = static_cast<float>(q[2]);
-  frame[kObsObj1Quat + 2] = static_cast<float>(q[3]);
-  frame[kObsObj1Quat + 3] = static_cast<float>(q[0]);
+  static constexpr int kXyzwOrder[4] = {1, 2, 3, 0};
+  for (int i = 0; i < 4; ++i) {
+    switch (config_.obj_quat) {
+      case QuatLayout::kXyzw: frame[kObsObj1Quat + i] = static_cast<float>(q[kXyzwOrder[i]]); break;
+      case QuatLayout::kWxyz: frame[kObsObj1Quat + i] = static_cast<float>(q[i]); break;
+      case QuatLayout::kZeros: frame[kObsObj1Quat + i] = 0.0f; break;
+    }
+  }
   WriteObject2(d, frame + kObsObj2Pos);
 }
 

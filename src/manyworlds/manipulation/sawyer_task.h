@@ -11,7 +11,8 @@
 // Observation (39):
 //   [0:3]   hand position (site hand_site)
 //   [3]     gripper opening = clip(|right pad - left pad| / 0.1, 0, 1)
-//   [4:7]   object 1 position        [7:11]  object 1 quaternion (x, y, z, w)
+//   [4:7]   object 1 position        [7:11]  object 1 quaternion ((x, y, z, w)
+//           unless the task's config says otherwise: obj_quat)
 //   [11:14] object 2 position        [14:18] object 2 quaternion (zeros when
 //           the task has no second object)
 //   [18:36] the previous step's [0:18] (a copy of [0:18] after reset)
@@ -65,6 +66,10 @@ inline constexpr double kActionScale = 0.01;  // metres per action unit per step
 // The tcp (midpoint of the finger pads) sits this far below the hand site.
 inline constexpr double kTcpBelowHand = 0.035;
 
+// How obs[7:11] holds object 1's orientation: Meta-World v3 uses, per task,
+// (x, y, z, w), MuJoCo's own (w, x, y, z), or zeros.
+enum class QuatLayout { kXyzw, kWxyz, kZeros };
+
 // Static description of one task.
 struct SawyerTaskConfig {
   std::string id;           // registry id, e.g. "reach"
@@ -77,6 +82,7 @@ struct SawyerTaskConfig {
   Vec3 goal_low, goal_high;  // goal range
   double min_obj_goal_xy = 0.15;   // resample while closer (xy)
   bool goal_z_at_object = false;   // goal height forced to the object's
+  QuatLayout obj_quat = QuatLayout::kXyzw;  // obs[7:11]: body "obj"'s orientation
 };
 
 struct SawyerOptions {
@@ -104,13 +110,25 @@ struct SawyerState {
   // peg-insert-side (zeros elsewhere)
   Vec3 obj_head{};       // the peg's head [site "pegHead"]
   Vec3 obj_head_init{};  // [peg_head_pos_init]
+  // articulated tasks (zeros where a task has no such quantity)
+  // The fixture joint in Meta-World's sign convention: the door hinge,
+  // negative when open toward the robot [doorjoint qpos]; the lever, -pi/2
+  // when pointing up [LeverAxis qpos].
+  double joint_qpos = 0;
+  // The object point at reset [window_handle_pos_init (window-open,
+  // window-close); _lever_pos_init (lever-pull)].
+  Vec3 handle_init{};
+  // Height of the object point above the goal at reset
+  // [_obj_to_target_init (button-press-topdown)].
+  double obj_to_target_init = 0;
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
 inline constexpr const char* kSawyerStateFields[] = {
     "hand",     "tcp",      "left_pad",  "right_pad",       "obj",         "goal",
     "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj",
-    "obj_head", "obj_head_init"};
+    "obj_head", "obj_head_init",
+    "joint_qpos", "handle_init", "obj_to_target_init"};  // articulated tasks
 
 // One step's reward and info values.
 struct RewardTerms {
@@ -178,6 +196,10 @@ class SawyerTask : public Env {
   // point (state.obj, obs[4:7]) where it is not the body "obj"'s origin;
   // called after every reset and step once the shared fields are set.
   virtual void RefreshTaskState(const mjData* /*d*/, SawyerState& /*state*/) const {}
+  // Task-specific values of the record's "at reset" fields, called at reset
+  // after the record is refreshed and obj_init (= obj_pos()) and tcp_init
+  // are set.
+  virtual void InitTaskState(SawyerState& /*state*/) const {}
   // obs[11:18]: position and (x, y, z, w) quaternion of a second object.
   // Default: zeros (no second object).
   virtual void WriteObject2(const mjData* d, float* pos_quat) const;
