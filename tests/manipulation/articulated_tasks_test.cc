@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -22,26 +23,32 @@ namespace {
 struct ArticulatedCase {
   std::string id;
   Vec3 goal_offset;   // goal - obj_pos
-  Vec3 handle_start;  // handle (obs[4:7]) at reset - obj_pos
+  Vec3 handle_start;  // the object point (obs[4:7]) at reset - obj_pos
+  double joint_qpos_start;  // the record's joint_qpos at reset
 };
 
-// The layouts documented in the task headers.
+// The layouts documented in the task headers: Meta-World v3's, measured in
+// the official package (its _target_pos and object point at reset, relative
+// to its obj_init_pos).
 std::vector<ArticulatedCase> Cases() {
-  // door-close starts open by 1.6 rad: the closed handle (0.3, -0.09) from
-  // the hinge at obj_pos + (-0.1, -0.11), turned by -1.6 rad.
-  const double c = std::cos(-1.6), s = std::sin(-1.6);
-  const Vec3 door_close_start{-0.1 + 0.3 * c + 0.09 * s, -0.11 + 0.3 * s - 0.09 * c, 0.0};
+  // door-close starts open by pi/2: the closed handle (0.3757, -0.1071) from
+  // the hinge at obj_pos + (-0.185, -0.1), turned by -1.5708 rad.
+  const double c = std::cos(-1.5708), s = std::sin(-1.5708);
+  const Vec3 door_close_start{-0.185 + 0.3757 * c + 0.1071 * s, -0.1 + 0.3757 * s - 0.1071 * c,
+                              0.0};
   return {
-      {"door-open", {-0.3, -0.45, 0.0}, {0.2, -0.2, 0.0}},
-      {"drawer-open", {0.0, -0.36, 0.09}, {0.0, -0.16, 0.09}},
-      {"drawer-close", {0.0, -0.16, 0.09}, {0.0, -0.36, 0.09}},
-      {"button-press-topdown", {0.0, 0.0, -0.035}, {0.0, 0.0, 0.0}},
-      {"window-open", {0.2, 0.0, 0.0}, {0.0, 0.0, 0.0}},
-      {"window-close", {0.0, 0.0, 0.0}, {0.2, 0.0, 0.0}},
-      {"door-close", {0.2, -0.2, 0.0}, door_close_start},
-      {"lever-pull", {0.08, 0.0, 0.4}, {0.08, -0.2, 0.2}},
+      {"door-open", {-0.3, -0.45, 0.0}, {0.1907, -0.2071, 0.0}, 0.0},
+      {"drawer-open", {0.0, -0.36, 0.09}, {0.0, -0.17, 0.09}, 0.0},
+      {"drawer-close", {0.0, -0.16, 0.09}, {0.0, -0.32, 0.14}, 0.0},
+      {"button-press-topdown", {0.0, 0.0, 0.1}, {0.0, 0.0, 0.1935}, 0.0},
+      {"window-open", {0.2, 0.0, 0.0}, {-0.04, -0.095, 0.0}, 0.0},
+      {"window-close", {0.0, 0.0, 0.0}, {0.21, -0.095, 0.0}, 0.0},
+      {"door-close", {0.2, -0.2, 0.0}, door_close_start, -1.5708},
+      {"lever-pull", {0.12, 0.0, 0.45}, {0.12, -0.2, 0.25}, 0.0},
   };
 }
+
+void PrintTo(const ArticulatedCase& c, std::ostream* os) { *os << c.id; }
 
 Vec3 Param(const TaskState& state, const char* key) {
   const auto& v = state.params.at(key);
@@ -111,6 +118,32 @@ TEST_P(ArticulatedTaskTest, HandleStartsWhereTheTaskStatePutsTheFixture) {
       EXPECT_NEAR(obs.env_obs[kObsObj1Pos + k], obj[k] + GetParam().handle_start[k], 1e-5)
           << "axis " << k;
     }
+  }
+}
+
+TEST_P(ArticulatedTaskTest, RecordHoldsTheFixtureQuantitiesMetaWorldReads) {
+  env_->SeedTask(6);
+  env_->ResetTaskState();
+  const Observation obs = env_->Reset();
+  const auto& task = dynamic_cast<const SawyerTask&>(*env_);
+  const SawyerState& s = task.state();
+  const Vec3 obj = Param(env_->GetTaskState(), "obj_pos");
+  EXPECT_NEAR(s.joint_qpos, GetParam().joint_qpos_start, 1e-3);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(s.handle_init[k], s.obj[k]);  // the object point at reset
+    // v3's obj_init_pos: the object point in drawer-close, obj_pos elsewhere.
+    EXPECT_EQ(s.obj_init[k], GetParam().id == "drawer-close" ? s.obj[k] : obj[k]);
+  }
+  EXPECT_NEAR(s.obj_to_target_init, GetParam().id == "button-press-topdown" ? 0.0935 : 0.0, 1e-4);
+  // obs[7:11]: (w, x, y, z) of an upright body in drawer-open and
+  // button-press-topdown, zeros in drawer-close and the windows.
+  const std::vector<float> quat(obs.env_obs.begin() + kObsObj1Quat,
+                                obs.env_obs.begin() + kObsObj1Quat + 4);
+  const std::string& id = GetParam().id;
+  if (id == "drawer-open" || id == "button-press-topdown") {
+    EXPECT_NEAR(quat[0], 1.0f, 1e-4);
+  } else if (id == "drawer-close" || id == "window-open" || id == "window-close") {
+    EXPECT_EQ(quat, std::vector<float>(4, 0.0f));
   }
 }
 

@@ -28,6 +28,13 @@ constexpr double kStageY = 0.04;        // in front of the ready point
 // the palm, which overhangs the pad in x, passes over the bar's top.
 constexpr double kPushAbove = 0.015;
 
+// Pushing a panel (PushPanel): the tcp's distance from the panel's middle
+// plane while the closed fingers touch its face (finger half-width 0.012,
+// panel half-thickness 0.01, a little play), and the angle the push aims
+// ahead of the panel.
+constexpr double kPanelStandOff = 0.025;
+constexpr double kPanelStep = 0.3;
+
 int Next(int axis) { return (axis + 1) % 3; }
 
 }  // namespace
@@ -48,6 +55,17 @@ ArticulatedTask::ArticulatedTask(SawyerTaskConfig config, FixtureSpec fixture,
   root_body_ = ids.Body(fixture_.root_body);
   joint_qpos_ = ids.QposAddress(fixture_.joint);
   joint_dof_ = ids.DofAddress(fixture_.joint);
+  const mjModel* m = model();
+  obj_body_ = ids.Body("obj");
+  for (int i = 0; i < 3; ++i) {
+    obj_pos0_[i] = m->body_pos[3 * obj_body_ + i];
+    obj_ipos0_[i] = m->body_ipos[3 * obj_body_ + i];
+  }
+  for (int g = 0; g < m->ngeom; ++g) {
+    if (m->geom_bodyid[g] == obj_body_) {
+      obj_geom_pos0_.push_back({g, {m->geom_pos[3 * g], m->geom_pos[3 * g + 1], m->geom_pos[3 * g + 2]}});
+    }
+  }
 }
 
 Vec3 ArticulatedTask::DeriveGoal(const Vec3& obj, const Vec3&) const {
@@ -59,48 +77,30 @@ void ArticulatedTask::PlaceObjects(mjModel* m, mjData* d) {
   for (int i = 0; i < 3; ++i) {
     m->body_pos[3 * root_body_ + i] = obj_pos()[i] + fixture_.root_offset[i];
   }
+  // Assigned from the model file's values, so repeated resets (and the
+  // copies SaveVariationXml makes) shift once.
+  const Vec3& shift = fixture_.obj_origin_shift;
+  for (int i = 0; i < 3; ++i) {
+    m->body_pos[3 * obj_body_ + i] = obj_pos0_[i] + shift[i];
+    m->body_ipos[3 * obj_body_ + i] = obj_ipos0_[i] - shift[i];
+    for (const auto& [geom, pos0] : obj_geom_pos0_) m->geom_pos[3 * geom + i] = pos0[i] - shift[i];
+  }
   d->qpos[joint_qpos_] = fixture_.joint_init;
   d->qvel[joint_dof_] = 0;
   d->qacc_warmstart[joint_dof_] = 0;
 }
 
-void ArticulatedTask::DoReset(const ObsView& out) {
-  SawyerTask::DoReset(out);
-  handle_init_ = state().obj;
+void ArticulatedTask::RefreshTaskState(const mjData* d, SawyerState& state) const {
+  state.joint_qpos = fixture_.joint_qpos_sign * d->qpos[joint_qpos_];
 }
 
-double ArticulatedTask::joint_pos() const { return data()->qpos[joint_qpos_]; }
+void ArticulatedTask::InitTaskState(SawyerState& state) const {
+  state.handle_init = state.obj;
+  if (fixture_.obj_init_is_object_point) state.obj_init = state.obj;
+}
 
 double GripEffort(std::span<const float> action) {
   return (std::clamp(static_cast<double>(action[3]), -1.0, 1.0) + 1.0) / 2.0;
-}
-
-double FingerDistance(const SawyerState& s, const Vec3& point) {
-  return std::min(
-      {Distance(s.tcp, point), Distance(s.left_pad, point), Distance(s.right_pad, point)});
-}
-
-RewardTerms FixtureReward(double engaged, double in_place, bool success) {
-  RewardTerms terms;
-  terms.reward = success ? 10.0 : std::clamp(2.0 * engaged + 8.0 * in_place, 0.0, 10.0);
-  terms.success = success;
-  terms.grasp_reward = engaged;
-  terms.in_place_reward = in_place;
-  return terms;
-}
-
-RewardTerms MoveHandleReward(const SawyerState& s, const Vec3& handle_init, double radius) {
-  const double finger_to_handle = FingerDistance(s, s.obj);
-  const double obj_to_target = Distance(s.obj, s.goal);
-  const double reach =
-      LongTailTolerance(finger_to_handle, 0.0, 0.02, Distance(s.tcp_init, handle_init));
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, radius, Distance(handle_init, s.goal));
-  RewardTerms terms = FixtureReward(reach, in_place, obj_to_target <= radius);
-  terms.near_object = finger_to_handle <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = s.touching_obj ? 1.0 : 0.0;
-  terms.obj_to_target = obj_to_target;
-  return terms;
 }
 
 void GraspAndMove(const SawyerObs& o, const Vec3& grasp, const Vec3& move_to, double approach_grip,
@@ -148,6 +148,37 @@ Vec3 NextPointOnArc(const Vec3& grasp, const Vec3& center, int axis, double targ
   const double to_go =
       std::remainder(target_angle - AngleAbout(grasp, center, axis), 2 * std::numbers::pi);
   return TurnAbout(grasp, center, axis, std::clamp(to_go, -max_step, max_step));
+}
+
+void PushPanel(const SawyerObs& o, const Vec3& hinge, double angle, double target_angle,
+               double push_at, double height, double clear_height, std::span<float> action) {
+  // side = +1: the panel turns clockwise (seen from above), so it is pushed
+  // on its face toward n = (-sin, cos) of its direction.
+  const double side = target_angle < angle ? 1.0 : -1.0;
+  // The tcp target `out` metres from the panel's middle plane on the pushed
+  // side, with the panel at angle a.
+  const auto point = [&](double a, double out, double z) {
+    return Vec3{hinge[0] + push_at * std::cos(a) - side * out * std::sin(a),
+                hinge[1] + push_at * std::sin(a) + side * out * std::cos(a), z + kTcpBelowHand};
+  };
+  const double dx = o.tcp[0] - hinge[0], dy = o.tcp[1] - hinge[1];
+  const double along = dx * std::cos(angle) + dy * std::sin(angle);
+  const double out = side * (-dx * std::sin(angle) + dy * std::cos(angle));
+  const Vec3 stage = point(angle, 1.5 * kPanelStandOff, height);
+  if (std::abs(along - push_at) < 0.05 && std::abs(o.tcp[2] - height) < 0.02 && out > -0.005 &&
+      out < 2.5 * kPanelStandOff) {
+    // At the face: aim through it where it will be a little further on.
+    const double step = std::clamp(target_angle - angle, -kPanelStep, kPanelStep);
+    MoveTo(o.hand, point(angle + step, 0.0, height), 1.0, action);
+  } else if (out > kPanelStandOff) {
+    // On the pushed side: the straight way to the stage point stays clear of
+    // the panel.
+    MoveTo(o.hand, stage, 1.0, action);
+  } else if (o.tcp[2] < clear_height) {
+    MoveTo(o.hand, {o.hand[0], o.hand[1], clear_height + 0.03 + kTcpBelowHand}, 1.0, action);
+  } else {
+    MoveTo(o.hand, {stage[0], stage[1], clear_height + 0.03 + kTcpBelowHand}, 1.0, action);
+  }
 }
 
 void PushBarAlongX(const SawyerObs& o, const Vec3& bar, double target_x, std::span<float> action) {

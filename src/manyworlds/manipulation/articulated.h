@@ -1,18 +1,24 @@
 // The articulated-fixture family: tasks whose object is a handle or button
 // on a fixture with one joint (door, drawer, window, button, lever). Shared
-// here: placing the fixture, the goal fixed relative to it, the shape of the
-// reward, and the scripted-policy moves.
+// here: placing the fixture, the goal fixed relative to it, the record's
+// fixture fields, and the scripted-policy moves. Each task computes
+// Meta-World v3's own reward (reward_function_version "v2").
 //
 // The task state keeps the suite's {"obj_pos", "goal_pos"}: obj_pos places
-// the fixture (each task says which point of it), goal_pos = obj_pos + the
-// task's fixed offset, so the goal range is the object range shifted by that
-// offset and a goal that is not its own offset is rejected. Body "obj" is
-// the handle, so obs[4:7] is the handle position as in Meta-World.
+// the fixture at the point Meta-World's does, goal_pos = obj_pos + the
+// task's fixed offset (Meta-World's _target_pos relative to that point), so
+// the goal range is the object range shifted by that offset and a goal that
+// is not its own offset is rejected. The origin of body "obj" is the
+// object point of obs[4:7], placed on the handle where Meta-World's task
+// reads its own (a handle geom's centre, a site, or a fixed offset from the
+// moving part).
 #ifndef MANYWORLDS_MANIPULATION_ARTICULATED_H_
 #define MANYWORLDS_MANIPULATION_ARTICULATED_H_
 
 #include <span>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "manyworlds/manipulation/policy_utils.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -26,6 +32,16 @@ struct FixtureSpec {
   std::string joint;      // the fixture's joint
   double joint_init = 0;  // its position at reset
   Vec3 goal_offset{};     // goal = obj_pos + goal_offset
+  // The record's joint_qpos = this times the joint's position (Meta-World's
+  // sign convention); 0: the task records none.
+  double joint_qpos_sign = 0;
+  // Moves body "obj"'s origin by this (in its parent's frame) and leaves its
+  // geoms and mass where they are: for a task that shares a fixture model
+  // but reads another point of the handle (drawer-close).
+  Vec3 obj_origin_shift{};
+  // obj_init = the object point at reset (Meta-World's drawer-close), not
+  // obj_pos.
+  bool obj_init_is_object_point = false;
 };
 
 // Sets the goal range to the object range shifted by `goal_offset` and
@@ -37,46 +53,28 @@ class ArticulatedTask : public SawyerTask {
   ArticulatedTask(SawyerTaskConfig config, FixtureSpec fixture, SawyerOptions options);
 
   Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;
-  // Moves the fixture's root body and sets its joint to the start position.
+  // Moves the fixture's root body (and body "obj"'s origin, with
+  // obj_origin_shift) and sets its joint to the start position.
   void PlaceObjects(mjModel* m, mjData* d) override;
-  // Also records the handle's start, which the rewards measure from.
-  void DoReset(const ObsView& out) override;
-
-  // The fixture joint's position now.
-  double joint_pos() const;
-  // The handle ("obj") position at reset.
-  const Vec3& handle_init() const { return handle_init_; }
+  // joint_qpos.
+  void RefreshTaskState(const mjData* d, SawyerState& state) const override;
+  // handle_init = the object point at reset; obj_init with
+  // obj_init_is_object_point.
+  void InitTaskState(SawyerState& state) const override;
 
  private:
   FixtureSpec fixture_;
   int root_body_ = -1, joint_qpos_ = -1, joint_dof_ = -1;
-  Vec3 handle_init_{};
+  int obj_body_ = -1;
+  // Body "obj"'s origin, inertial offset and geom offsets in the model file.
+  Vec3 obj_pos0_{}, obj_ipos0_{};
+  std::vector<std::pair<int, Vec3>> obj_geom_pos0_;
 };
 
-// ---- Reward pieces (metaworld.md §3.1 primitives) ----
+// ---- Reward pieces ----
 
 // Gripper closing effort in [0, 1]: (clip(a[3], -1, 1) + 1) / 2.
 double GripEffort(std::span<const float> action);
-
-// Distance from `point` to the nearest of the tcp and the two pads: pushes
-// may use either finger.
-double FingerDistance(const SawyerState& state, const Vec3& point);
-
-// The family's reward: 2 engaged + 8 in_place, in [0, 10], and 10 on
-// success. `engaged` rewards being at (or holding) the handle, `in_place`
-// the handle's progress to the goal; both in [0, 1]. Fills reward, success,
-// grasp_reward (= engaged) and in_place_reward; the task fills the rest.
-RewardTerms FixtureReward(double engaged, double in_place, bool success);
-
-// The whole reward of tasks that move a handle to a goal by any means
-// (pushing or holding), success within `radius`:
-//   reach = tol(d, (0, 0.02), margin |tcp_init - handle_init|), d = distance
-//     from the handle to the nearest of tcp and pads
-//   in_place = tol(|handle - goal|, (0, radius), margin |handle_init - goal|)
-//   reward = 2 reach + 8 in_place; 10 when |handle - goal| <= radius
-//   near_object = d <= 0.03; grasp_success = a pad touches the handle;
-//   grasp_reward = reach; obj_to_target = |handle - goal|.
-RewardTerms MoveHandleReward(const SawyerState& state, const Vec3& handle_init, double radius);
 
 // ---- Scripted-policy moves (stateless functions of the observation) ----
 
@@ -105,6 +103,17 @@ double AngleAbout(const Vec3& p, const Vec3& center, int axis);
 // next to turn it toward `target_angle`, at most `max_step` radians ahead.
 Vec3 NextPointOnArc(const Vec3& grasp, const Vec3& center, int axis, double target_angle,
                     double max_step = 0.15);
+
+// Turns a panel hinged on a vertical axis through `hinge` (a door) toward
+// `target_angle` by pushing one of its faces with the closed gripper.
+// Angles are the panel's direction from the hinge, atan2 in the xy plane;
+// the pushed face is the one the panel turns away from. The tcp stays at
+// `height` and `push_at` metres out from the hinge along the panel. From the
+// other side it goes over the panel (above `clear_height`), comes down
+// beside the face, then pushes toward where the panel will be a little
+// further on.
+void PushPanel(const SawyerObs& obs, const Vec3& hinge, double angle, double target_angle,
+               double push_at, double height, double clear_height, std::span<float> action);
 
 // Pushes a vertical handle bar along x to `target_x` with the side of one
 // open finger pad (the other pad and the palm stay in front of the fixture,

@@ -1,15 +1,20 @@
-// button-press-topdown: press a button on top of a box down until it is
-// within 0.02 m of fully pressed (metaworld.md §2.9).
-//   button rest position obj_pos in [(-0.1, 0.8, 0.115), (0.1, 0.9, 0.115)];
-//     goal = the button pressed in 3.5 cm (flush with the box) =
-//     obj_pos + (0, 0, -0.035); hand starts at (0, 0.4, 0.2)
-//   reach = tol(|tcp - cap top|, (0, 0.02), margin |tcp_init - cap top at
-//     reset|) (the cap top is 2 cm above the button's centre)
-//   in_place = tol(|button_z - goal_z|, (0, 0.02), margin 0.035)
-//   reward = 2 reach + 8 in_place; 10 on success
-//   info: success |button_z - goal_z| <= 0.02; near_object |tcp - cap top|
-//     <= 0.03; grasp_success = a pad touches the button; grasp_reward =
-//     reach; in_place_reward; obj_to_target = |button_z - goal_z|.
+// button-press-topdown: press a button on top of a box down until its top
+// is within 0.024 m of the goal's height (Meta-World v3, reward version
+// "v2").
+//   box obj_pos in [(-0.1, 0.8, 0.115), (0.1, 0.9, 0.115)]; the cap's top
+//     (obs[4:7]) rests at obj_pos + (0, 0, 0.1935) and presses down by up to
+//     0.0935 m, to the goal obj_pos + (0, 0, 0.1); success needs a press of
+//     0.0695 m; hand starts at (0, 0.4, 0.2); obs[7:11] the cap's (w, x, y, z)
+//     orientation
+//   near_button = tol(|button - tcp|, (0, 0.01), margin |button - tcp_init|)
+//   pressed = tol(|button_z - goal_z|, (0, 0.005), margin obj_to_target_init)
+//     (obj_to_target_init = |button_z - goal_z| at reset, 0.0935)
+//   reward = 5 H(1 - obs[3], near_button), + 5 pressed when
+//     |button - tcp| <= 0.03 (no success bonus)
+//   info: success |button_z - goal_z| <= 0.024; near_object |button - tcp|
+//     <= 0.05; grasp_success = obs[3] > 0; grasp_reward = near_button;
+//     in_place_reward = pressed; obj_to_target = |button_z - goal_z|.
+//   (tol: long-tail tolerance; H: Hamacher product.)
 #ifndef MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
 #define MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
 
@@ -25,6 +30,8 @@ class ButtonPressTopdown : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  // Also obj_to_target_init.
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Hovers over the button with the gripper closed, then presses straight down.

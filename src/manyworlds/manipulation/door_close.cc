@@ -7,17 +7,15 @@ namespace {
 
 constexpr Vec3 kGoalOffset{0.2, -0.2, 0.0};
 constexpr double kSuccess = 0.08;
-constexpr double kStartAngle = -1.6;  // hinge position at reset (open)
-// Grasp the grip 5 mm above its middle: the pads then clear its arm.
-constexpr Vec3 kGraspAbove{0.0, 0.0, 0.005};
-// Swing at 0.6 cm per step: the handle slides along the pads (held by
-// friction only) where the door's motion is along x.
-constexpr double kCarrySpeed = 0.6;
-// Turn slightly past shut: the hinge limit stops the door there.
-constexpr double kOvershoot = 0.1;
+constexpr double kStartAngle = -1.5708;  // hinge position at reset (open), as v3
+// Push to shut (the hinge's limit); success comes within about 9 degrees of
+// it.
+constexpr double kShut = 0.0;
 
 FixtureSpec Fixture() {
-  return {"door_frame", door::kFrameOffset, "door_hinge", kStartAngle, kGoalOffset};
+  FixtureSpec fixture{"door_frame", door::kFrameOffset, "door_hinge", kStartAngle, kGoalOffset};
+  fixture.joint_qpos_sign = 1.0;  // v3's doorjoint has our sign
+  return fixture;
 }
 
 }  // namespace
@@ -37,7 +35,21 @@ SawyerTaskConfig DoorClose::Config() {
 DoorClose::DoorClose(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
 RewardTerms DoorClose::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  return MoveHandleReward(s, handle_init(), kSuccess);
+  constexpr double kTargetRadius = 0.05;
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double in_place =
+      GaussianTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
+  const double hand_in_place = GaussianTolerance(Distance(s.tcp, s.goal), 0.0, 0.25 * kTargetRadius,
+                                                 Distance(s.hand_init, s.obj) + 0.1);
+  RewardTerms terms;
+  terms.reward = obj_to_target < kTargetRadius ? 10.0 : 3.0 * hand_in_place + 6.0 * in_place;
+  terms.success = obj_to_target <= kSuccess;
+  terms.near_object = 0.0;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = 1.0;
+  terms.in_place_reward = hand_in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
 }
 
 void DoorCloseScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
@@ -45,11 +57,8 @@ void DoorCloseScriptedPolicy::Act(std::span<const float> env_obs, std::span<cons
   const SawyerObs o(env_obs);
   const Vec3 obj{o.goal[0] - kGoalOffset[0], o.goal[1] - kGoalOffset[1],
                  o.goal[2] - kGoalOffset[2]};
-  const Vec3 grasp{o.obj1[0] + kGraspAbove[0], o.obj1[1] + kGraspAbove[1],
-                   o.obj1[2] + kGraspAbove[2]};
-  const Vec3 next =
-      NextPointOnArc(grasp, door::Hinge(obj), 2, door::ClosedHandleAngle() + kOvershoot);
-  GraspAndMove(o, grasp, next, -1.0, action, kCarrySpeed);
+  PushPanel(o, door::Hinge(obj), door::HingeAngle(o.obj1, obj), kShut, 0.2,
+            door::kPushHeight, door::kClearHeight, action);
 }
 
 }  // namespace manyworlds::manipulation

@@ -1,17 +1,19 @@
 // door-close: swing an open door shut, until the handle is within 0.08 m
-// of its closed position (metaworld.md §2.9).
+// of the goal (Meta-World v3, reward version "v2").
 //   door anchor obj_pos in [(0, 0.85, 0.15), (0.1, 0.95, 0.15)] (door-open's
-//     range; layout in door_fixture.h); the door starts open by 1.6 rad;
-//     goal = the closed handle = obj_pos + (0.2, -0.2, 0), so in
-//     [(0.2, 0.65, 0.15), (0.3, 0.75, 0.15)]; hand starts at (-0.5, 0.6, 0.2)
-//   reward (MoveHandleReward in articulated.h, radius 0.08):
-//     reach = tol(d, (0, 0.02), margin |tcp_init - handle_init|), d = the
-//       distance from the handle to the nearest of tcp and pads
-//     in_place = tol(|handle - goal|, (0, 0.08), margin |handle_init - goal|)
-//     reward = 2 reach + 8 in_place; 10 on success
-//   info: success |handle - goal| <= 0.08; near_object d <= 0.03;
-//     grasp_success = a pad touches the handle; grasp_reward = reach;
-//     in_place_reward; obj_to_target = |handle - goal|.
+//     range; layout in door_fixture.h); the door starts open by pi/2;
+//     goal = obj_pos + (0.2, -0.2, 0), 0.012 m from the shut handle, so in
+//     [(0.2, 0.65, 0.15), (0.3, 0.75, 0.15)]; hand starts at (-0.5, 0.6, 0.2);
+//     obs[4:7] the handle's centre
+//   in_place = tolG(|handle - goal|, (0, 0.05), margin |obj_init - goal|)
+//     (obj_init = obj_pos, the anchor)
+//   hand_in_place = tolG(|tcp - goal|, (0, 0.0125),
+//     margin |hand_init - handle| + 0.1)
+//   reward = 3 hand_in_place + 6 in_place; 10 when |handle - goal| < 0.05
+//   info: success |handle - goal| <= 0.08; near_object 0, grasp_success 1,
+//     grasp_reward 1 (constants, as in v3); in_place_reward = hand_in_place;
+//     obj_to_target = |handle - goal|.
+//   (tolG: gaussian tolerance.)
 #ifndef MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
 
@@ -29,8 +31,10 @@ class DoorClose : public ArticulatedTask {
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
 };
 
-// Grasps the handle's grip and carries it around the hinge (found from the
-// goal) until the door is shut.
+// Pushes the open door shut on its handle side with the closed gripper
+// (PushPanel), 0.2 m out from the hinge (found from the goal), inside the
+// handle. (The open door's handle is out of the hand's bounds, y >= 0.4,
+// for the doors nearest the robot.)
 class DoorCloseScriptedPolicy : public Policy {
  public:
   void Act(std::span<const float> env_obs, std::span<const float> task_obs,

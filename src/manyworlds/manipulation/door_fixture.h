@@ -1,12 +1,15 @@
 // Geometry of the door in assets/door_fixture.xml, shared by door-open and
 // door-close; the numbers must match the XML.
 //
-// obj_pos is the door's anchor at handle height, as in Meta-World: the
-// reference goals (door-open obj + (-0.3, -0.45, 0), door-close
-// obj + (0.2, -0.2, 0)) fix the layout. The closed handle sits exactly on
-// door-close's goal; door-open's goal is where the handle would be with the
-// door swung open a little past 90 degrees, and success only asks for the
-// handle's x (within 0.08), as in the reference.
+// obj_pos is the door's anchor at handle height, as in Meta-World v3, and
+// the hinge and the handle are where v3's are relative to it (measured in
+// the official package): the hinge at obj_pos + (-0.185, -0.1), the closed
+// handle's centre at obj_pos + (0.1907, -0.2071), 0.3907 m from the hinge.
+// So v3's goals mean the same motions: door-open's success (handle x within
+// 0.08 of obj_pos x - 0.3) is a door open between 79 and 104 degrees, and
+// door-close's goal (obj_pos + (0.2, -0.2, 0)) lies 0.012 m from the shut
+// handle, which is within 0.08 of it once the door is within about 9
+// degrees of shut.
 #ifndef MANYWORLDS_MANIPULATION_DOOR_FIXTURE_H_
 #define MANYWORLDS_MANIPULATION_DOOR_FIXTURE_H_
 
@@ -17,13 +20,13 @@
 namespace manyworlds::manipulation::door {
 
 // Root body "door_frame" (on the table, under the hinge) relative to obj_pos.
-inline constexpr Vec3 kFrameOffset{-0.1, -0.11, -0.15};
-// The handle relative to the hinge axis with the door closed: 0.3 m along
-// the panel, 0.09 m in front of it.
-inline constexpr double kHandleAlong = 0.3;
-inline constexpr double kHandleOut = 0.09;
-// The hinge turns from 0 (closed) to -2.1 rad (open, toward the robot).
-inline constexpr double kMaxOpen = 2.1;
+inline constexpr Vec3 kFrameOffset{-0.185, -0.1, -0.15};
+// The handle relative to the hinge axis with the door closed: 0.3757 m
+// along the panel, 0.1071 m in front of it.
+inline constexpr double kHandleAlong = 0.3757;
+inline constexpr double kHandleOut = 0.1071;
+// The hinge turns from 0 (closed) to -2 rad (open, toward the robot).
+inline constexpr double kMaxOpen = 2.0;
 
 // Where the hinge axis is for a given obj_pos (z: unchanged).
 inline Vec3 Hinge(const Vec3& obj) {
@@ -31,6 +34,18 @@ inline Vec3 Hinge(const Vec3& obj) {
 }
 // The handle's angle about the hinge (atan2 of its xy offset) when closed.
 inline double ClosedHandleAngle() { return std::atan2(-kHandleOut, kHandleAlong); }
+// The hinge angle (0 shut, negative open) that puts the handle at `handle`.
+inline double HingeAngle(const Vec3& handle, const Vec3& obj) {
+  const Vec3 hinge = Hinge(obj);
+  return std::remainder(
+      std::atan2(handle[1] - hinge[1], handle[0] - hinge[0]) - ClosedHandleAngle(),
+      2 * 3.14159265358979323846);
+}
+// The scripted policies push the panel with the closed gripper (PushPanel in
+// articulated.h): mid-height (the tcp 0.15 m up, as the handle) and clear of
+// the handle; over its top (0.29 m) with the tcp 0.34 m up.
+inline constexpr double kPushHeight = 0.15;
+inline constexpr double kClearHeight = 0.34;
 
 }  // namespace manyworlds::manipulation::door
 

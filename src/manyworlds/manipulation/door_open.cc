@@ -1,6 +1,7 @@
 #include "manyworlds/manipulation/door_open.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "manyworlds/manipulation/door_fixture.h"
 
@@ -9,16 +10,15 @@ namespace {
 
 constexpr Vec3 kGoalOffset{-0.3, -0.45, 0.0};
 constexpr double kSuccessX = 0.08;
-// Grasp the grip 5 mm above its middle: the pads then clear its arm.
-constexpr Vec3 kGraspAbove{0.0, 0.0, 0.005};
-// Swing at 0.6 cm per step: the handle slides along the pads (held by
-// friction only) where the door's motion is along x.
-constexpr double kCarrySpeed = 0.6;
-// Turn past the goal (success comes near -1.7 rad of hinge travel), short
-// of the hinge's limit.
+// Turn past the goal (success comes between 1.38 and 1.82 rad of hinge
+// travel), short of the hinge's limit.
 constexpr double kTurnTo = door::kMaxOpen - 0.2;
 
-FixtureSpec Fixture() { return {"door_frame", door::kFrameOffset, "door_hinge", 0.0, kGoalOffset}; }
+FixtureSpec Fixture() {
+  FixtureSpec fixture{"door_frame", door::kFrameOffset, "door_hinge", 0.0, kGoalOffset};
+  fixture.joint_qpos_sign = 1.0;  // v3's doorjoint has our sign
+  return fixture;
+}
 
 }  // namespace
 
@@ -37,17 +37,35 @@ SawyerTaskConfig DoorOpen::Config() {
 DoorOpen::DoorOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
 RewardTerms DoorOpen::ComputeReward(const SawyerState& s, std::span<const float> action) const {
-  const double tcp_to_handle = Distance(s.tcp, s.obj);
-  const double x_error = std::abs(s.obj[0] - s.goal[0]);
-  const double reach =
-      LongTailTolerance(tcp_to_handle, 0.0, 0.02, Distance(s.tcp_init, handle_init()));
-  const double engaged = HamacherProduct(reach, GripEffort(action));
-  const double in_place =
-      LongTailTolerance(x_error, 0.0, kSuccessX, std::abs(handle_init()[0] - s.goal[0]));
-  RewardTerms terms = FixtureReward(engaged, in_place, x_error <= kSuccessX);
-  terms.near_object = tcp_to_handle <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = s.touching_obj && action[3] > 0 ? 1.0 : 0.0;
-  terms.obj_to_target = x_error;
+  const Vec3& hand = s.hand;
+  const Vec3 door{s.obj[0] - 0.05, s.obj[1], s.obj[2]};
+  // A funnel-shaped floor around the handle keeps the hand from reaching it
+  // low, through the door.
+  constexpr double kFunnel = 0.12;
+  const double radius = std::hypot(hand[0] - door[0], hand[1] - door[1]);
+  const double floor = radius <= kFunnel ? 0.0 : 0.04 * std::log(radius - kFunnel) + 0.4;
+  const double above_floor =
+      hand[2] >= floor ? 1.0 : LongTailTolerance(floor - hand[2], 0.0, 0.01, floor / 2.0);
+  const Vec3 beside{s.obj[0], s.obj[1] + 0.03, s.obj[2] - 0.01};  // door + (0.05, 0.03, -0.01)
+  const double in_place = LongTailTolerance(Distance(hand, beside), 0.0, kFunnel / 2.0, 0.5);
+  const double ready = HamacherProduct(above_floor, in_place);
+
+  const double theta = s.joint_qpos;
+  const double opened =
+      0.2 * (theta < -std::numbers::pi / 90.0 ? 1.0 : 0.0) +
+      0.8 * LongTailTolerance(std::numbers::pi / 2.0 + std::numbers::pi / 6.0 + theta, 0.0, 0.5,
+                              std::numbers::pi / 3.0);
+  const double grab = GripEffort(action);
+  const bool success = std::abs(s.obj[0] - s.goal[0]) <= kSuccessX;
+
+  RewardTerms terms;
+  terms.reward = success ? 10.0 : 2.0 * HamacherProduct(ready, grab) + 8.0 * opened;
+  terms.success = success;
+  terms.near_object = ready;
+  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
+  terms.grasp_reward = grab;
+  terms.in_place_reward = opened;
+  terms.obj_to_target = 0.0;
   return terms;
 }
 
@@ -56,10 +74,8 @@ void DoorOpenScriptedPolicy::Act(std::span<const float> env_obs, std::span<const
   const SawyerObs o(env_obs);
   const Vec3 obj{o.goal[0] - kGoalOffset[0], o.goal[1] - kGoalOffset[1],
                  o.goal[2] - kGoalOffset[2]};
-  const Vec3 grasp{o.obj1[0] + kGraspAbove[0], o.obj1[1] + kGraspAbove[1],
-                   o.obj1[2] + kGraspAbove[2]};
-  const Vec3 next = NextPointOnArc(grasp, door::Hinge(obj), 2, door::ClosedHandleAngle() - kTurnTo);
-  GraspAndMove(o, grasp, next, -1.0, action, kCarrySpeed);
+  PushPanel(o, door::Hinge(obj), door::HingeAngle(o.obj1, obj), -kTurnTo, 0.25,
+            door::kPushHeight, door::kClearHeight, action);
 }
 
 }  // namespace manyworlds::manipulation

@@ -1,16 +1,20 @@
-// drawer-close: push an open drawer shut until the handle is within
-// 0.065 m of its closed position (metaworld.md §2.9).
+// drawer-close: push an open drawer shut until the object point is within
+// 0.065 m of the goal (Meta-World v3, reward version "v2").
 //   cabinet obj_pos in [(-0.1, 0.9, 0), (0.1, 0.9, 0)]; the drawer starts
-//     pulled out 0.2 m; goal = the closed handle = obj_pos + (0, -0.16, 0.09);
-//     hand starts at (0, 0.6, 0.2)
-//   reward (MoveHandleReward in articulated.h, radius 0.065):
-//     reach = tol(d, (0, 0.02), margin |tcp_init - handle_init|), d = the
-//       distance from the handle to the nearest of tcp and pads
-//     in_place = tol(|handle - goal|, (0, 0.065), margin |handle_init - goal|)
-//     reward = 2 reach + 8 in_place; 10 on success
-//   info: success |handle - goal| <= 0.065; near_object d <= 0.03;
-//     grasp_success = a pad touches the handle; grasp_reward = reach;
-//     in_place_reward; obj_to_target = |handle - goal|.
+//     pulled out 0.15 m; the object point (obs[4:7]) is 1 cm in front of and
+//     5 cm above the handle bar's centre, as v3's, so it is 0.051 m from the
+//     goal even when shut; goal = the shut bar = obj_pos + (0, -0.16, 0.09),
+//     so success needs the drawer pushed to within 0.0315 m of shut; hand
+//     starts at (0, 0.6, 0.2); obs[7:11] zeros (as v3)
+//   in_place = tol(|handle - goal|, (0, 0.05),
+//     margin ||obj_init - goal| - 0.05|) (obj_init = the point at reset)
+//   reach = H(tolG(|handle - tcp|, (0, 0.005),
+//     margin ||obj_init - tcp_init| - 0.005|), clip(a[3], 0, 1))
+//   reward = 10 H(reach, in_place); 10 on success
+//   info: success |handle - goal| <= 0.065; near_object |handle - tcp|
+//     <= 0.01; grasp_success 1 (as v3); grasp_reward = reach;
+//     in_place_reward = in_place; obj_to_target = |handle - goal|.
+//   (tol: long-tail, tolG: gaussian tolerance; H: Hamacher product.)
 #ifndef MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
 

@@ -1,11 +1,16 @@
 #include "manyworlds/manipulation/drawer_open.h"
 
+#include "manyworlds/manipulation/object_tasks.h"
+
 namespace manyworlds::manipulation {
 namespace {
 
-// The closed handle is at obj_pos + (0, -0.16, 0.09) (drawer_fixture.xml).
 constexpr Vec3 kGoalOffset{0.0, -0.36, 0.09};
 constexpr double kSuccess = 0.03;
+constexpr double kMaxDist = 0.2;  // v3's maxDist: the goal's pull, and a margin
+// The bar's centre relative to the object point (drawer_fixture.xml).
+constexpr Vec3 kBarFromPoint{0.0, 0.01, 0.0};
+constexpr double kTravel = 0.2;  // the drawer's stop
 // Pads at +-0.04 m while descending: the drawer face is 0.06 m behind the bar.
 constexpr double kApproachGrip = -0.5;
 
@@ -21,32 +26,43 @@ SawyerTaskConfig DrawerOpen::Config() {
   config.hand_init = {0.0, 0.6, 0.2};
   config.obj_low = {-0.1, 0.9, 0.0};
   config.obj_high = {0.1, 0.9, 0.0};
+  config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
   return config;
 }
 
 DrawerOpen::DrawerOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
-RewardTerms DrawerOpen::ComputeReward(const SawyerState& s, std::span<const float> action) const {
-  const double tcp_to_handle = Distance(s.tcp, s.obj);
-  const double obj_to_target = Distance(s.obj, s.goal);
-  const double reach =
-      LongTailTolerance(tcp_to_handle, 0.0, 0.02, Distance(s.tcp_init, handle_init()));
-  const double engaged = HamacherProduct(reach, GripEffort(action));
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, kSuccess, Distance(handle_init(), s.goal));
-  RewardTerms terms = FixtureReward(engaged, in_place, obj_to_target <= kSuccess);
-  terms.near_object = tcp_to_handle <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = s.touching_obj && action[3] > 0 ? 1.0 : 0.0;
-  terms.obj_to_target = obj_to_target;
+RewardTerms DrawerOpen::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  const double handle_error = Distance(s.obj, s.goal);
+  const double opening = LongTailTolerance(handle_error, 0.0, 0.02, kMaxDist);
+  // Where v3 takes the shut handle to be: the goal pushed back maxDist.
+  const Vec3 handle_init{s.goal[0], s.goal[1] + kMaxDist, s.goal[2]};
+  // x and y weigh more, so the gripper may rise over the handle and drop
+  // down behind it without losing much.
+  constexpr Vec3 kScale{3.0, 3.0, 1.0};
+  const double caging = LongTailTolerance(WeightedDistance(s.obj, s.hand, kScale), 0.0, 0.01,
+                                          WeightedDistance(handle_init, s.tcp_init, kScale));
+  RewardTerms terms;
+  terms.reward = 5.0 * (caging + opening);
+  terms.success = handle_error <= kSuccess;
+  terms.near_object = Distance(s.obj, s.hand) <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
+  terms.grasp_reward = caging;
+  terms.in_place_reward = opening;
+  terms.obj_to_target = handle_error;
   return terms;
 }
 
 void DrawerOpenScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                    std::span<float> action) {
   const SawyerObs o(env_obs);
-  // Aim 1 cm past the goal so the pull does not stall just short of it.
-  GraspAndMove(o, o.obj1, {o.goal[0], o.goal[1] - 0.01, o.goal[2]}, kApproachGrip, action);
+  const Vec3 bar{o.obj1[0] + kBarFromPoint[0], o.obj1[1] + kBarFromPoint[1],
+                 o.obj1[2] + kBarFromPoint[2]};
+  // The shut bar is maxDist behind the goal (v3's handle_pos_init). Pull to
+  // 1 cm past the stop, so the pull does not stall short of it.
+  const double target_y = o.goal[1] + kMaxDist - kTravel - 0.01;
+  GraspAndMove(o, bar, {bar[0], target_y, bar[2]}, kApproachGrip, action);
 }
 
 }  // namespace manyworlds::manipulation

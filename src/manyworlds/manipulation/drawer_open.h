@@ -1,17 +1,20 @@
 // drawer-open: pull a drawer out of its cabinet by the handle until the
-// handle is within 0.03 m of the goal (metaworld.md §2.9).
-//   cabinet obj_pos in [(-0.1, 0.9, 0), (0.1, 0.9, 0)]; the closed handle is
-//     at obj_pos + (0, -0.16, 0.09); goal = the handle pulled out 0.2 m =
-//     obj_pos + (0, -0.36, 0.09) (as the reference); hand starts at
-//     (0, 0.6, 0.2)
-//   reach = tol(|tcp - handle|, (0, 0.02), margin |tcp_init - handle_init|)
-//   engaged = H(reach, grip effort (a[3] + 1) / 2)
-//   in_place = tol(|handle - goal|, (0, 0.03), margin |handle_init - goal|)
-//   reward = 2 engaged + 8 in_place; 10 on success
-//   info: success |handle - goal| <= 0.03; near_object |tcp - handle|
-//     <= 0.03; grasp_success = a pad touches the handle and a[3] > 0;
-//     grasp_reward = engaged; in_place_reward; obj_to_target =
-//     |handle - goal|.
+// object point is within 0.03 m of the goal (Meta-World v3, reward version
+// "v2").
+//   cabinet obj_pos in [(-0.1, 0.9, 0), (0.1, 0.9, 0)]; the object point
+//     (obs[4:7]) is 1 cm in front of the handle bar's centre, at
+//     obj_pos + (0, -0.17, 0.09) when shut; goal = obj_pos + (0, -0.36, 0.09)
+//     (v3: the point pulled out 0.2 m minus 1 cm), so success needs the
+//     drawer pulled out >= 0.16 m of its 0.2 m; hand starts at (0, 0.6, 0.2);
+//     obs[7:11] the handle's (w, x, y, z) orientation
+//   opening = tol(|handle - goal|, (0, 0.02), margin 0.2)
+//   caging = tol(|(handle - hand) * (3, 3, 1)|, (0, 0.01),
+//     margin |(goal + (0, 0.2, 0) - tcp_init) * (3, 3, 1)|) (hand = obs[0:3])
+//   reward = 5 (caging + opening) (at most 10; no success bonus)
+//   info: success |handle - goal| <= 0.03; near_object |handle - hand|
+//     <= 0.03; grasp_success = obs[3] > 0; grasp_reward = caging;
+//     in_place_reward = opening; obj_to_target = |handle - goal|.
+//   (tol: long-tail tolerance.)
 #ifndef MANYWORLDS_MANIPULATION_DRAWER_OPEN_H_
 #define MANYWORLDS_MANIPULATION_DRAWER_OPEN_H_
 
@@ -30,7 +33,7 @@ class DrawerOpen : public ArticulatedTask {
 };
 
 // Grasps the handle bar (gripper half open on the way down: the drawer face
-// is close behind the bar) and pulls it to the goal.
+// is close behind the bar) and pulls it out to the drawer's stop.
 class DrawerOpenScriptedPolicy : public Policy {
  public:
   void Act(std::span<const float> env_obs, std::span<const float> task_obs,

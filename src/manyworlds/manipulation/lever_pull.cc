@@ -3,17 +3,23 @@
 #include <cmath>
 #include <numbers>
 
+#include "manyworlds/manipulation/object_tasks.h"
+
 namespace manyworlds::manipulation {
 namespace {
 
 constexpr double kArm = 0.2;  // axis to grip (lever_pull.xml)
-constexpr Vec3 kGoalOffset{0.08, 0.0, 0.2 + kArm};
+constexpr Vec3 kGoalOffset{0.12, 0.0, 0.25 + kArm};
 constexpr double kUp = std::numbers::pi / 2;
 constexpr double kSuccess = std::numbers::pi / 24;
 // Hold the grip beside the arm, which meets it in the middle.
 constexpr Vec3 kGraspBeside{0.035, 0.0, 0.0};
 
-FixtureSpec Fixture() { return {"lever_base", {}, "lever_hinge", 0.0, kGoalOffset}; }
+FixtureSpec Fixture() {
+  FixtureSpec fixture{"lever_base", {}, "lever_hinge", 0.0, kGoalOffset};
+  fixture.joint_qpos_sign = -1.0;  // v3's LeverAxis turns the other way
+  return fixture;
+}
 
 Vec3 GraspPoint(const Vec3& grip) {
   return {grip[0] + kGraspBeside[0], grip[1] + kGraspBeside[1], grip[2] + kGraspBeside[2]};
@@ -35,17 +41,30 @@ SawyerTaskConfig LeverPull::Config() {
 
 LeverPull::LeverPull(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
-RewardTerms LeverPull::ComputeReward(const SawyerState& s, std::span<const float> action) const {
-  const double tcp_to_grip = Distance(s.tcp, s.obj);
-  const double angle_error = std::abs(joint_pos() - kUp);
-  const double reach =
-      LongTailTolerance(tcp_to_grip, 0.0, 0.04, Distance(s.tcp_init, handle_init()));
-  const double engaged = HamacherProduct(reach, GripEffort(action));
-  const double in_place = LongTailTolerance(angle_error, 0.0, kSuccess, kUp);
-  RewardTerms terms = FixtureReward(engaged, in_place, angle_error <= kSuccess);
-  terms.near_object = tcp_to_grip <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.touching_obj && action[3] > 0 ? 1.0 : 0.0;
-  terms.obj_to_target = angle_error;
+RewardTerms LeverPull::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  // The hand's "shoulder" under the lever: a point 5.5 cm behind and 7 cm
+  // above the hand, compared with the grip, y counting less.
+  constexpr Vec3 kShoulder{0.0, 0.055, 0.07};
+  constexpr Vec3 kScale{4.0, 1.0, 4.0};
+  const Vec3 shoulder{s.hand[0] + kShoulder[0], s.hand[1] + kShoulder[1], s.hand[2] + kShoulder[2]};
+  const Vec3 shoulder_init{s.tcp_init[0] + kShoulder[0], s.tcp_init[1] + kShoulder[1],
+                           s.tcp_init[2] + kShoulder[2]};
+  const double shoulder_to_lever = WeightedDistance(shoulder, s.obj, kScale);
+  const double ready = LongTailTolerance(shoulder_to_lever, 0.0, 0.02,
+                                         WeightedDistance(shoulder_init, s.handle_init, kScale));
+  const double angle_error = std::abs(-s.joint_qpos - kUp);
+  const double engagement = LongTailTolerance(angle_error, 0.0, std::numbers::pi / 48.0,
+                                              kUp - std::numbers::pi / 12.0);
+  const double in_place =
+      LongTailTolerance(Distance(s.obj, s.goal), 0.0, 0.04, Distance(s.handle_init, s.goal));
+  RewardTerms terms;
+  terms.reward = 10.0 * HamacherProduct(ready, in_place);
+  terms.success = angle_error <= kSuccess;
+  terms.near_object = shoulder_to_lever < 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = ready > 0.9 ? 1.0 : 0.0;
+  terms.grasp_reward = ready;
+  terms.in_place_reward = engagement;
+  terms.obj_to_target = shoulder_to_lever;
   return terms;
 }
 

@@ -1,18 +1,21 @@
 // lever-pull: pull a lever from pointing at the robot up to vertical, to
-// within pi/24 (metaworld.md §2.9).
+// within pi/24 (Meta-World v3, reward version "v2").
 //   lever post obj_pos in [(-0.1, 0.7, 0), (0.1, 0.8, 0)]; the lever turns
-//     about an x axis at obj_pos + (0.08, 0, 0.2) and its 0.2 m arm ends in a
-//     grip, at obj_pos + (0.08, -0.2, 0.2) at rest; goal = the grip with the
-//     lever up (angle pi/2) = obj_pos + (0.08, 0, 0.4); hand starts at
-//     (0, 0.4, 0.2)
-//   reach = tol(|tcp - grip|, (0, 0.04), margin |tcp_init - grip_init|)
-//     (the grip is held 3.5 cm to the side of its middle)
-//   engaged = H(reach, grip effort (a[3] + 1) / 2)
-//   in_place = tol(|angle - pi/2|, (0, pi/24), margin pi/2)
-//   reward = 2 engaged + 8 in_place; 10 on success
-//   info: success |angle - pi/2| <= pi/24; near_object |tcp - grip| <= 0.05;
-//     grasp_success = a pad touches the grip and a[3] > 0; grasp_reward =
-//     engaged; in_place_reward; obj_to_target = |angle - pi/2| (radians).
+//     about an x axis at obj_pos + (0.12, 0, 0.25) and its 0.2 m arm ends in a
+//     grip (obs[4:7]), at obj_pos + (0.12, -0.2, 0.25) at rest; goal = the
+//     grip with the lever up = obj_pos + (0.12, 0, 0.45) (all as v3); hand
+//     starts at (0, 0.4, 0.2)
+//   With angle = -joint_qpos (the lever's angle up from rest),
+//   shoulder = (hand + (0, 0.055, 0.07) - grip) * (4, 1, 4) (hand = obs[0:3])
+//   ready = tol(|shoulder|, (0, 0.02),
+//     margin |(tcp_init + (0, 0.055, 0.07) - handle_init) * (4, 1, 4)|)
+//   in_place = tol(|grip - goal|, (0, 0.04), margin |handle_init - goal|)
+//   engagement = tol(|angle - pi/2|, (0, pi/48), margin pi/2 - pi/12)
+//   reward = 10 H(ready, in_place) (no success bonus)
+//   info: success |angle - pi/2| <= pi/24; near_object |shoulder| < 0.03;
+//     grasp_success = ready > 0.9; grasp_reward = ready; in_place_reward =
+//     engagement; obj_to_target = |shoulder| (as v3 reports them).
+//   (tol: long-tail tolerance; H: Hamacher product.)
 #ifndef MANYWORLDS_MANIPULATION_LEVER_PULL_H_
 #define MANYWORLDS_MANIPULATION_LEVER_PULL_H_
 

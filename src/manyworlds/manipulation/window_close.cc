@@ -1,13 +1,20 @@
 #include "manyworlds/manipulation/window_close.h"
 
+#include <cmath>
+
 namespace manyworlds::manipulation {
 namespace {
 
-constexpr Vec3 kGoalOffset{0.0, 0.0, 0.0};  // the goal is the shut handle
+constexpr Vec3 kGoalOffset{0.0, 0.0, 0.0};  // the goal is obj_pos (v3's window body)
 constexpr double kStartOpen = 0.2;
-// The frame (root body) stands on the table, 0.2 m under the handle.
-constexpr Vec3 kFrameOffset{0.0, 0.0, -0.2};
-constexpr double kSuccess = 0.05;
+// The frame (root body) stands on the table with the shut handle bar at
+// obj_pos + (-0.014, -0.095, 0), 0.2 m up.
+constexpr Vec3 kFrameOffset{-0.014, -0.095, -0.2};
+// The handle bar's x relative to the object point (the obj body).
+constexpr double kBarFromPoint = -0.024;
+// The shut bar's x relative to the goal.
+constexpr double kBarX = 0.014;
+constexpr double kTargetRadius = 0.05;  // v3's TARGET_RADIUS
 
 FixtureSpec Fixture() {
   return {"window_frame", kFrameOffset, "window_slide", kStartOpen, kGoalOffset};
@@ -23,6 +30,7 @@ SawyerTaskConfig WindowClose::Config() {
   config.hand_init = {0.0, 0.4, 0.2};
   config.obj_low = {0.0, 0.75, 0.2};
   config.obj_high = {0.0, 0.9, 0.2};
+  config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
   return config;
 }
@@ -30,13 +38,30 @@ SawyerTaskConfig WindowClose::Config() {
 WindowClose::WindowClose(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
 RewardTerms WindowClose::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  return MoveHandleReward(s, handle_init(), kSuccess);
+  constexpr double kHandleRadius = 0.02;
+  const double target_to_obj = std::abs(s.obj[0] - s.goal[0]);
+  const double in_place = LongTailTolerance(target_to_obj, 0.0, kTargetRadius,
+                                            std::abs(std::abs(s.handle_init[0] - s.goal[0]) - kTargetRadius));
+  const double tcp_to_obj = Distance(s.obj, s.tcp);
+  const double reach = GaussianTolerance(tcp_to_obj, 0.0, kHandleRadius,
+                                          std::abs(Distance(s.handle_init, s.tcp_init) - kHandleRadius));
+  RewardTerms terms;
+  terms.reward = 10.0 * HamacherProduct(reach, in_place);
+  terms.success = target_to_obj <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = reach;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = target_to_obj;
+  return terms;
 }
 
 void WindowCloseScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                     std::span<float> action) {
   const SawyerObs o(env_obs);
-  PushBarAlongX(o, o.obj1, o.goal[0], action);
+  const Vec3 bar{o.obj1[0] + kBarFromPoint, o.obj1[1], o.obj1[2]};
+  // To the shut position: the bar 0.014 m short of the goal in x.
+  PushBarAlongX(o, bar, o.goal[0] - kBarX, action);
 }
 
 }  // namespace manyworlds::manipulation

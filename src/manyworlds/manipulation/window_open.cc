@@ -1,12 +1,19 @@
 #include "manyworlds/manipulation/window_open.h"
 
+#include <cmath>
+
 namespace manyworlds::manipulation {
 namespace {
 
 constexpr Vec3 kGoalOffset{0.2, 0.0, 0.0};
-// The frame (root body) stands on the table, 0.16 m under the handle.
-constexpr Vec3 kFrameOffset{0.0, 0.0, -0.16};
-constexpr double kSuccess = 0.05;
+// The frame (root body) stands on the table with the shut handle bar at
+// obj_pos + (-0.014, -0.095, 0), 0.16 m up.
+constexpr Vec3 kFrameOffset{-0.014, -0.095, -0.16};
+// The handle bar's x relative to the object point (the obj body).
+constexpr double kBarFromPoint = 0.026;
+// The shut bar's x relative to the goal.
+constexpr double kBarX = 0.014;
+constexpr double kTargetRadius = 0.05;  // v3's TARGET_RADIUS
 
 FixtureSpec Fixture() { return {"window_frame", kFrameOffset, "window_slide", 0.0, kGoalOffset}; }
 
@@ -20,6 +27,7 @@ SawyerTaskConfig WindowOpen::Config() {
   config.hand_init = {0.0, 0.4, 0.2};
   config.obj_low = {-0.1, 0.7, 0.16};
   config.obj_high = {0.1, 0.9, 0.16};
+  config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
   return config;
 }
@@ -27,13 +35,30 @@ SawyerTaskConfig WindowOpen::Config() {
 WindowOpen::WindowOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
 RewardTerms WindowOpen::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  return MoveHandleReward(s, handle_init(), kSuccess);
+  constexpr double kHandleRadius = 0.02;
+  const double target_to_obj = std::abs(s.obj[0] - s.goal[0]);
+  const double in_place = LongTailTolerance(target_to_obj, 0.0, kTargetRadius,
+                                            std::abs(std::abs(s.obj_init[0] - s.goal[0]) - kTargetRadius));
+  const double tcp_to_obj = Distance(s.obj, s.tcp);
+  const double reach = LongTailTolerance(tcp_to_obj, 0.0, kHandleRadius,
+                                          std::abs(Distance(s.handle_init, s.tcp_init) - kHandleRadius));
+  RewardTerms terms;
+  terms.reward = 10.0 * HamacherProduct(reach, in_place);
+  terms.success = target_to_obj <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = reach;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = target_to_obj;
+  return terms;
 }
 
 void WindowOpenScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                    std::span<float> action) {
   const SawyerObs o(env_obs);
-  PushBarAlongX(o, o.obj1, o.goal[0], action);
+  const Vec3 bar{o.obj1[0] + kBarFromPoint, o.obj1[1], o.obj1[2]};
+  // To the stop, fully open: the bar 0.014 m short of the goal in x.
+  PushBarAlongX(o, bar, o.goal[0] - kBarX, action);
 }
 
 }  // namespace manyworlds::manipulation

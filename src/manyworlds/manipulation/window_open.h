@@ -1,16 +1,21 @@
-// window-open: slide a window sash open (+x) by its handle until the handle
-// is within 0.05 m of the goal (metaworld.md §2.9).
-//   obj_pos = the handle with the sash shut, in [(-0.1, 0.7, 0.16),
-//     (0.1, 0.9, 0.16)]; goal = the handle slid 0.2 m = obj_pos + (0.2, 0, 0);
-//     hand starts at (0, 0.4, 0.2)
-//   reward (MoveHandleReward in articulated.h, radius 0.05):
-//     reach = tol(d, (0, 0.02), margin |tcp_init - handle_init|), d = the
-//       distance from the handle to the nearest of tcp and pads
-//     in_place = tol(|handle - goal|, (0, 0.05), margin |handle_init - goal|)
-//     reward = 2 reach + 8 in_place; 10 on success
-//   info: success |handle - goal| <= 0.05; near_object d <= 0.03;
-//     grasp_success = a pad touches the handle; grasp_reward = reach;
-//     in_place_reward; obj_to_target = |handle - goal|.
+// window-open: slide a window sash open (+x) by its handle until the object
+// point is within 0.05 m of the goal in x (Meta-World v3, reward version
+// "v2").
+//   window obj_pos in [(-0.1, 0.7, 0.16), (0.1, 0.9, 0.16)] (v3's window
+//     body); the handle bar is at obj_pos + (-0.014, -0.095, 0) with the sash
+//     shut and the object point (obs[4:7]) 2.6 cm to its -x side, at
+//     obj_pos + (-0.04, -0.095, 0); goal = obj_pos + (0.2, 0, 0), so success
+//     needs the sash slid >= 0.19 m of its 0.2 m; hand starts at
+//     (0, 0.4, 0.2); obs[7:11] zeros (as v3)
+//   in_place = tol(|handle_x - goal_x|, (0, 0.05),
+//     margin ||obj_init_x - goal_x| - 0.05|) (obj_init = obj_pos)
+//   reach = tol(|handle - tcp|, (0, 0.02),
+//     margin ||handle_init - tcp_init| - 0.02|)
+//   reward = 10 H(reach, in_place) (no success bonus)
+//   info: success |handle_x - goal_x| <= 0.05; near_object |handle - tcp|
+//     <= 0.05; grasp_success 1 (as v3); grasp_reward = reach;
+//     in_place_reward = in_place; obj_to_target = |handle_x - goal_x|.
+//   (tol: long-tail tolerance; H: Hamacher product.)
 #ifndef MANYWORLDS_MANIPULATION_WINDOW_OPEN_H_
 #define MANYWORLDS_MANIPULATION_WINDOW_OPEN_H_
 
