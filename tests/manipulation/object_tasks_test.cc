@@ -4,6 +4,7 @@
 // and the fixtures following the goal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <memory>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "manyworlds/manipulation/manipulation.h"
+#include "manyworlds/manipulation/policy_utils.h"
 #include "manyworlds/manipulation/sawyer_task.h"
 
 namespace manyworlds::manipulation {
@@ -158,9 +160,30 @@ TEST(ObjectTaskPhysics, BasketballSuccessHoldsTheBallOverTheRing) {
   EXPECT_EQ(successes, 5);
 }
 
+// The wall stops the gripper: driven straight at a goal behind the wall's
+// middle, low, the tcp stays in front of it.
+TEST(ObjectTaskPhysics, TheWallBlocksTheStraightPath) {
+  Registry registry;
+  RegisterManipulationSuite(registry);
+  auto env = registry.Make("reach-wall", nlohmann::json::object());
+  env->SeedTask(3);
+  env->ResetTaskState();
+  Observation obs = env->Reset();
+  double furthest = 0;
+  std::vector<float> action(4);
+  for (int t = 0; t < 200; ++t) {
+    const SawyerObs o(obs.env_obs);
+    MoveTo(o.hand, {0.1, 0.9, 0.06 + kTcpBelowHand}, -1.0, action);
+    obs = env->Step(action).obs;
+    furthest = std::max(furthest, SawyerObs(obs.env_obs).tcp[1]);
+  }
+  EXPECT_LT(furthest, 0.74);  // the wall's near face
+  EXPECT_GT(furthest, 0.68);  // it did get there
+}
+
 std::vector<std::string> ObjectTaskIds() {
   const std::vector<std::string> wanted = {"peg-insert-side", "sweep", "sweep-into", "basketball",
-                                           "shelf-place"};
+                                           "shelf-place", "reach-wall", "push-wall", "pick-place-wall"};
   std::vector<std::string> ids;
   for (const std::string& id : ManipulationTaskIds()) {
     for (const std::string& w : wanted) {

@@ -18,6 +18,9 @@
 #include "manyworlds/manipulation/shelf_place.h"
 #include "manyworlds/manipulation/sweep.h"
 #include "manyworlds/manipulation/sweep_into.h"
+#include "manyworlds/manipulation/wall/pick_place_wall.h"
+#include "manyworlds/manipulation/wall/push_wall.h"
+#include "manyworlds/manipulation/wall/reach_wall.h"
 #include "manyworlds/manipulation/window_close.h"
 #include "manyworlds/manipulation/window_open.h"
 
@@ -56,6 +59,9 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<ShelfPlace, ShelfPlaceScriptedPolicy>(),
       Entry<SweepInto, SweepIntoScriptedPolicy>(),
       Entry<LeverPull, LeverPullScriptedPolicy>(),
+      Entry<ReachWall, ReachWallScriptedPolicy>(),
+      Entry<PushWall, PushWallScriptedPolicy>(),
+      Entry<PickPlaceWall, PickPlaceWallScriptedPolicy>(),
   };
   return tasks;
 }

@@ -1,0 +1,59 @@
+#include "manyworlds/manipulation/wall/pick_place_wall.h"
+
+#include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/wall/wall.h"
+
+namespace manyworlds::manipulation {
+
+SawyerTaskConfig PickPlaceWall::Config() {
+  SawyerTaskConfig config = wall::WallConfig(0.05, 0.3);
+  config.id = "pick-place-wall";
+  config.description = "Sawyer arm: carry a puck over a wall to a goal in the air";
+  config.xml_file = "pick_place_wall.xml";
+  return config;
+}
+
+PickPlaceWall::PickPlaceWall(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  constexpr double kRadius = 0.05;
+  const Vec3 midpoint{s.goal[0], 0.77, 0.25};
+  const Vec3 z_thrice{1.0, 1.0, 3.0};
+  const double tcp_to_obj = Distance(s.tcp, s.obj);
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double to_midpoint =
+      LongTailTolerance(WeightedDistance(s.obj, midpoint, z_thrice), 0.0, kRadius,
+                        WeightedDistance(s.obj_init, midpoint, z_thrice));
+  const double to_goal =
+      LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
+  CagingParams caging;  // the shared caging term, not high-density
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.05;
+  caging.object_reach_radius = 0.01;
+  caging.xz_thresh = 0.005;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+  const double grasped_to_midpoint = HamacherProduct(grasped, to_midpoint);
+
+  RewardTerms terms;
+  terms.reward = grasped_to_midpoint;
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0 && s.obj[2] - 0.015 > s.obj_init[2]) {
+    terms.reward = s.obj[1] > 0.75 ? grasped_to_midpoint + 5.0 + 3.0 * to_goal
+                                   : grasped_to_midpoint + 1.0 + 4.0 * to_midpoint;
+  }
+  if (obj_to_target < kRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = to_goal;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PickPlaceWallScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                      std::span<float> action) {
+  const SawyerObs o(env_obs);
+  wall::CarryOverWall(o, o.goal, action);
+}
+
+}  // namespace manyworlds::manipulation

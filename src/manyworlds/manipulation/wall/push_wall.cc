@@ -1,0 +1,60 @@
+#include "manyworlds/manipulation/wall/push_wall.h"
+
+#include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/wall/wall.h"
+
+namespace manyworlds::manipulation {
+
+SawyerTaskConfig PushWall::Config() {
+  SawyerTaskConfig config = wall::WallConfig(0.01, 0.02);
+  config.id = "push-wall";
+  config.description = "Sawyer arm: push a puck past a wall to a goal on the table";
+  config.xml_file = "push_wall.xml";
+  config.goal_z_at_object = true;
+  return config;
+}
+
+PushWall::PushWall(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  constexpr double kRadius = 0.05;
+  const Vec3 midpoint{-0.05, 0.77, s.obj[2]};
+  const Vec3 x_thrice{3.0, 1.0, 1.0};
+  const double tcp_to_obj = Distance(s.tcp, s.obj);
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double to_midpoint =
+      LongTailTolerance(WeightedDistance(s.obj, midpoint, x_thrice), 0.0, kRadius,
+                        WeightedDistance(s.obj_init, midpoint, x_thrice));
+  const double to_goal =
+      LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
+  CagingParams caging;
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.05;
+  caging.object_reach_radius = 0.01;
+  caging.xz_thresh = 0.005;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+
+  RewardTerms terms;
+  terms.reward = 2.0 * grasped;
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) {
+    terms.reward = s.obj[1] > 0.75 ? 2.0 * grasped + 5.0 + 3.0 * to_goal
+                                   : 2.0 * grasped + 1.0 + 4.0 * to_midpoint;
+  }
+  if (obj_to_target < kRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = to_goal;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PushWallScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                 std::span<float> action) {
+  const SawyerObs o(env_obs);
+  wall::CarryOverWall(o, {o.goal[0], o.goal[1], o.goal[2] + 0.005}, action);
+}
+
+}  // namespace manyworlds::manipulation
