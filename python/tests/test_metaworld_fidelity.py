@@ -24,7 +24,9 @@ import manyworlds.manipulation as mp
 
 from conftest import REPO
 
-FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place", "basketball", "peg-insert-side"]
+FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place", "basketball",
+            "door-open", "door-close", "drawer-open", "drawer-close", "button-press-topdown",
+            "window-open", "window-close", "lever-pull", "peg-insert-side"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"
