@@ -27,7 +27,7 @@ from conftest import REPO
 FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place", "basketball",
             "door-open", "door-close", "drawer-open", "drawer-close", "button-press-topdown",
             "window-open", "window-close", "lever-pull", "peg-insert-side",
-            "reach-wall", "push-wall", "pick-place-wall"]
+            "reach-wall", "push-wall", "pick-place-wall", "push-back"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

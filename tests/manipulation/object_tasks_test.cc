@@ -183,7 +183,8 @@ TEST(ObjectTaskPhysics, TheWallBlocksTheStraightPath) {
 
 std::vector<std::string> ObjectTaskIds() {
   const std::vector<std::string> wanted = {"peg-insert-side", "sweep", "sweep-into", "basketball",
-                                           "shelf-place", "reach-wall", "push-wall", "pick-place-wall"};
+                                           "shelf-place", "reach-wall", "push-wall", "pick-place-wall",
+                                           "push-back"};
   std::vector<std::string> ids;
   for (const std::string& id : ManipulationTaskIds()) {
     for (const std::string& w : wanted) {

@@ -17,6 +17,7 @@
 #include "manyworlds/manipulation/reach.h"
 #include "manyworlds/manipulation/shelf_place.h"
 #include "manyworlds/manipulation/sweep.h"
+#include "manyworlds/manipulation/slide/push_back.h"
 #include "manyworlds/manipulation/sweep_into.h"
 #include "manyworlds/manipulation/wall/pick_place_wall.h"
 #include "manyworlds/manipulation/wall/push_wall.h"
@@ -62,6 +63,7 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<ReachWall, ReachWallScriptedPolicy>(),
       Entry<PushWall, PushWallScriptedPolicy>(),
       Entry<PickPlaceWall, PickPlaceWallScriptedPolicy>(),
+      Entry<PushBack, PushBackScriptedPolicy>(),
   };
   return tasks;
 }

@@ -1,0 +1,53 @@
+#include "manyworlds/manipulation/slide/push_back.h"
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+
+SawyerTaskConfig PushBack::Config() {
+  SawyerTaskConfig config;
+  config.id = "push-back";
+  config.description = "Sawyer arm: bring a block back toward the robot";
+  config.xml_file = "push_back.xml";
+  config.obj_low = {-0.1, 0.8, 0.02};
+  config.obj_high = {0.1, 0.85, 0.02};
+  config.goal_low = {-0.1, 0.6, 0.02};
+  config.goal_high = {0.1, 0.7, 0.02};
+  config.goal_z_at_object = true;
+  return config;
+}
+
+PushBack::PushBack(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms PushBack::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  constexpr double kTargetRadius = 0.05;
+  const double tcp_to_obj = Distance(s.tcp, s.obj);
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double obj_to_target_init = Distance(s.obj_init, s.goal);
+  const double in_place = LongTailTolerance(obj_to_target, 0.0, kTargetRadius, obj_to_target_init);
+  const double grasped = SweepCaging(s, 0.007, 0.003, 0.01);
+
+  RewardTerms terms;
+  terms.reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.01 && s.gripper_opening > 0 && s.gripper_opening < 0.55 &&
+      obj_to_target_init - obj_to_target > 0.01) {
+    terms.reward += 1.0 + 5.0 * in_place;
+  }
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PushBackScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                 std::span<float> action) {
+  const SawyerObs o(env_obs);
+  GraspAndCarry(o, {o.goal[0], o.goal[1], o.goal[2] + 0.005}, action);
+}
+
+}  // namespace manyworlds::manipulation
