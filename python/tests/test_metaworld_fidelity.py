@@ -27,7 +27,8 @@ from conftest import REPO
 FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place", "basketball",
             "door-open", "door-close", "drawer-open", "drawer-close", "button-press-topdown",
             "window-open", "window-close", "lever-pull", "peg-insert-side",
-            "reach-wall", "push-wall", "pick-place-wall", "push-back"]
+            "reach-wall", "push-wall", "pick-place-wall", "push-back",
+            "plate-slide", "plate-slide-side", "plate-slide-back", "plate-slide-back-side"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

@@ -184,7 +184,8 @@ TEST(ObjectTaskPhysics, TheWallBlocksTheStraightPath) {
 std::vector<std::string> ObjectTaskIds() {
   const std::vector<std::string> wanted = {"peg-insert-side", "sweep", "sweep-into", "basketball",
                                            "shelf-place", "reach-wall", "push-wall", "pick-place-wall",
-                                           "push-back"};
+                                           "push-back", "plate-slide", "plate-slide-side",
+                                           "plate-slide-back", "plate-slide-back-side"};
   std::vector<std::string> ids;
   for (const std::string& id : ManipulationTaskIds()) {
     for (const std::string& w : wanted) {

@@ -17,6 +17,7 @@
 #include "manyworlds/manipulation/reach.h"
 #include "manyworlds/manipulation/shelf_place.h"
 #include "manyworlds/manipulation/sweep.h"
+#include "manyworlds/manipulation/slide/plate_slide.h"
 #include "manyworlds/manipulation/slide/push_back.h"
 #include "manyworlds/manipulation/sweep_into.h"
 #include "manyworlds/manipulation/wall/pick_place_wall.h"
@@ -64,6 +65,10 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<PushWall, PushWallScriptedPolicy>(),
       Entry<PickPlaceWall, PickPlaceWallScriptedPolicy>(),
       Entry<PushBack, PushBackScriptedPolicy>(),
+      Entry<PlateSlide, PlateSlideScriptedPolicy>(),
+      Entry<PlateSlideSide, PlateSlideScriptedPolicy>(),
+      Entry<PlateSlideBack, PlateSlideScriptedPolicy>(),
+      Entry<PlateSlideBackSide, PlateSlideScriptedPolicy>(),
   };
   return tasks;
 }
