@@ -185,7 +185,7 @@ std::vector<std::string> ObjectTaskIds() {
   const std::vector<std::string> wanted = {"peg-insert-side", "sweep", "sweep-into", "basketball",
                                            "shelf-place", "reach-wall", "push-wall", "pick-place-wall",
                                            "push-back", "plate-slide", "plate-slide-side",
-                                           "plate-slide-back", "plate-slide-back-side"};
+                                           "plate-slide-back", "plate-slide-back-side", "soccer"};
   std::vector<std::string> ids;
   for (const std::string& id : ManipulationTaskIds()) {
     for (const std::string& w : wanted) {

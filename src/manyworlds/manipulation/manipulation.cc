@@ -19,6 +19,7 @@
 #include "manyworlds/manipulation/sweep.h"
 #include "manyworlds/manipulation/slide/plate_slide.h"
 #include "manyworlds/manipulation/slide/push_back.h"
+#include "manyworlds/manipulation/slide/soccer.h"
 #include "manyworlds/manipulation/sweep_into.h"
 #include "manyworlds/manipulation/wall/pick_place_wall.h"
 #include "manyworlds/manipulation/wall/push_wall.h"
@@ -69,6 +70,7 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<PlateSlideSide, PlateSlideScriptedPolicy>(),
       Entry<PlateSlideBack, PlateSlideScriptedPolicy>(),
       Entry<PlateSlideBackSide, PlateSlideScriptedPolicy>(),
+      Entry<Soccer, SoccerScriptedPolicy>(),
   };
   return tasks;
 }

@@ -1,10 +1,9 @@
 #include "manyworlds/manipulation/slide/plate_slide.h"
 
-#include <cmath>
 #include <utility>
 
 #include "manyworlds/manipulation/object_tasks.h"
-#include "manyworlds/manipulation/policy_utils.h"
+#include "manyworlds/manipulation/slide/push_from_behind.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -114,27 +113,7 @@ SawyerTaskConfig PlateSlideBackSide::Config() {
 void PlateSlideScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                    std::span<float> action) {
   const SawyerObs o(env_obs);
-  constexpr double kLow = 0.015, kHigh = 0.08, kBehind = 0.08;
-  const Vec3& plate = o.obj1;
-  double dx = o.goal[0] - plate[0], dy = o.goal[1] - plate[1];
-  const double dist = std::hypot(dx, dy);
-  if (dist > 1e-6) {
-    dx /= dist;
-    dy /= dist;
-  }
-  const Vec3 behind{plate[0] - kBehind * dx, plate[1] - kBehind * dy, kLow};
-  const double off = std::hypot(o.tcp[0] - behind[0], o.tcp[1] - behind[1]);
-  Vec3 target;
-  if (off > 0.02) {
-    // Rise before travelling (the plate and the rails are low), then come
-    // down behind the plate.
-    target = o.tcp[2] < kHigh - 0.02 && off > 0.03 ? Vec3{o.tcp[0], o.tcp[1], kHigh}
-                                                   : Vec3{behind[0], behind[1], kHigh};
-    if (off < 0.03) target[2] = kLow;
-  } else {
-    target = {o.tcp[0] + 0.05 * dx, o.tcp[1] + 0.05 * dy, kLow};
-  }
-  MoveTo(o.hand, {target[0], target[1], target[2] + kTcpBelowHand}, 1.0, action);
+  PushFromBehind(o, o.obj1, o.goal, PushParams{}, action);
 }
 
 }  // namespace manyworlds::manipulation
