@@ -29,7 +29,8 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "window-open", "window-close", "lever-pull", "peg-insert-side",
             "reach-wall", "push-wall", "pick-place-wall", "push-back",
             "plate-slide", "plate-slide-side", "plate-slide-back", "plate-slide-back-side",
-            "soccer"]
+            "soccer",
+            "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

@@ -179,6 +179,9 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
   const int left = mj_name2id(m, mjOBJ_SITE, "left_pad_site");
   const int right = mj_name2id(m, mjOBJ_SITE, "right_pad_site");
   const int obj = mj_name2id(m, mjOBJ_BODY, "obj");
+  // obs[7:11]: body "obj"'s orientation, or the fixture body the task names.
+  const std::string& quat_name = task().config().obj_quat_body;
+  const int quat = quat_name.empty() ? obj : mj_name2id(m, mjOBJ_BODY, quat_name.c_str());
   // A task whose observed object point is not the body's origin marks it
   // with the site "obj_point" (e.g. peg-insert-side's grasp point).
   const int obj_point = mj_name2id(m, mjOBJ_SITE, "obj_point");
@@ -200,12 +203,12 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
     // From MuJoCo's (w, x, y, z), in the task's layout.
     switch (task().config().obj_quat) {
       case QuatLayout::kXyzw:
-        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 3], static_cast<float>(d->xquat[4 * obj]));
-        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * obj + 1]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 3], static_cast<float>(d->xquat[4 * quat]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * quat + 1]));
         break;
       case QuatLayout::kWxyz:
-        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * obj]));
-        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 1], static_cast<float>(d->xquat[4 * obj + 1]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 0], static_cast<float>(d->xquat[4 * quat]));
+        EXPECT_FLOAT_EQ(o[kObsObj1Quat + 1], static_cast<float>(d->xquat[4 * quat + 1]));
         break;
       case QuatLayout::kZeros:
         for (int i = 0; i < 4; ++i) EXPECT_EQ(o[kObsObj1Quat + i], 0.0f);

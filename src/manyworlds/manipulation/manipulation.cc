@@ -15,6 +15,9 @@
 #include "manyworlds/manipulation/pick_place.h"
 #include "manyworlds/manipulation/push.h"
 #include "manyworlds/manipulation/reach.h"
+#include "manyworlds/manipulation/rotary/dial_turn.h"
+#include "manyworlds/manipulation/rotary/door_lock.h"
+#include "manyworlds/manipulation/rotary/faucet.h"
 #include "manyworlds/manipulation/shelf_place.h"
 #include "manyworlds/manipulation/sweep.h"
 #include "manyworlds/manipulation/slide/plate_slide.h"
@@ -71,6 +74,11 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<PlateSlideBack, PlateSlideScriptedPolicy>(),
       Entry<PlateSlideBackSide, PlateSlideScriptedPolicy>(),
       Entry<Soccer, SoccerScriptedPolicy>(),
+      Entry<FaucetOpen, FaucetScriptedPolicy>(),
+      Entry<FaucetClose, FaucetScriptedPolicy>(),
+      Entry<DialTurn, DialTurnScriptedPolicy>(),
+      Entry<DoorLock, DoorLockScriptedPolicy>(),
+      Entry<DoorUnlock, DoorUnlockScriptedPolicy>(),
   };
   return tasks;
 }

@@ -79,6 +79,7 @@ SawyerTask::SawyerTask(SawyerTaskConfig config, SawyerOptions options)
   right_pad_site_ = ids.Site("right_pad_site");
   obj_body_ = ids.Body("obj");
   obj_geom_ = ids.Geom("obj_geom");
+  obj_quat_body_ = config_.obj_quat_body.empty() ? obj_body_ : ids.Body(config_.obj_quat_body);
   left_pad_geom_ = ids.Geom("left_pad");
   right_pad_geom_ = ids.Geom("right_pad");
   // "obj" is a free body in the pick-and-place family, a part of a fixture
@@ -335,7 +336,7 @@ void SawyerTask::WriteFrame(float* frame) const {
   frame[kObsGripper] = static_cast<float>(state_.gripper_opening);
   for (int i = 0; i < 3; ++i) frame[kObsObj1Pos + i] = static_cast<float>(state_.obj[i]);
   // MuJoCo stores (w, x, y, z); the observation uses the task's layout.
-  const mjtNum* q = d->xquat + 4 * obj_body_;
+  const mjtNum* q = d->xquat + 4 * obj_quat_body_;
   static constexpr int kXyzwOrder[4] = {1, 2, 3, 0};
   for (int i = 0; i < 4; ++i) {
     switch (config_.obj_quat) {

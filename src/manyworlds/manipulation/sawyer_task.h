@@ -83,6 +83,9 @@ struct SawyerTaskConfig {
   double min_obj_goal_xy = 0.15;   // resample while closer (xy)
   bool goal_z_at_object = false;   // goal height forced to the object's
   QuatLayout obj_quat = QuatLayout::kXyzw;  // obs[7:11]: body "obj"'s orientation
+  // The body whose orientation obs[7:11] holds where v3 reads another than
+  // the object point's (a fixture's fixed base); empty: body "obj".
+  std::string obj_quat_body;
 };
 
 struct SawyerOptions {
@@ -223,6 +226,7 @@ class SawyerTask : public Env {
   int hand_site_ = -1, left_pad_site_ = -1, right_pad_site_ = -1;
   int obj_body_ = -1, obj_geom_ = -1, left_pad_geom_ = -1, right_pad_geom_ = -1;
   int obj_qpos_ = -1, obj_dof_ = -1;  // -1: "obj" has no free joint
+  int obj_quat_body_ = -1;  // obs[7:11]'s body
   int hand_mocap_ = -1, goal_mocap_ = -1;
   int left_act_ = -1, right_act_ = -1;
 

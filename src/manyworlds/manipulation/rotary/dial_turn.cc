@@ -1,0 +1,82 @@
+#include "manyworlds/manipulation/rotary/dial_turn.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "manyworlds/manipulation/rotary/rotary.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr Vec3 kGoalOffset{0.0, 0.03, 0.03};
+constexpr Vec3 kPushOffset{0.05, 0.02, 0.09};
+constexpr double kTargetRadius = 0.07;
+constexpr double kReachRadius = 0.005;
+
+Vec3 PushPoint(const Vec3& obj) {
+  return {obj[0] + kPushOffset[0], obj[1] + kPushOffset[1], obj[2] + kPushOffset[2]};
+}
+
+}  // namespace
+
+SawyerTaskConfig DialTurn::Config() {
+  SawyerTaskConfig config;
+  config.id = "dial-turn";
+  config.description = "Sawyer arm: turn a dial";
+  config.xml_file = "dial_turn.xml";
+  config.hand_init = {0.0, 0.6, 0.2};
+  config.obj_low = {-0.1, 0.7, 0.0};
+  config.obj_high = {0.1, 0.8, 0.0};
+  config.obj_quat = QuatLayout::kWxyz;
+  config.obj_quat_body = "dial_base";
+  UseGoalOffset(kGoalOffset, config);
+  return config;
+}
+
+DialTurn::DialTurn(SawyerOptions options)
+    : ArticulatedTask(Config(), FixtureSpec{"dial_base", {}, "dial_hinge", 0.0, kGoalOffset},
+                      options) {}
+
+void DialTurn::InitTaskState(SawyerState& state) const {
+  ArticulatedTask::InitTaskState(state);
+  state.handle_init = PushPoint(state.obj);
+}
+
+RewardTerms DialTurn::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  const Vec3 push = PushPoint(s.obj);
+  const double target_to_obj = Distance(s.obj, s.goal);
+  const double in_place =
+      LongTailTolerance(target_to_obj, 0.0, kTargetRadius,
+                        std::abs(Distance(s.handle_init, s.goal) - kTargetRadius));
+  const double tcp_to_push = Distance(push, s.tcp);
+  const double gripper_closed = std::clamp(static_cast<double>(action[3]), 0.0, 1.0);
+  const double reach = HamacherProduct(
+      GaussianTolerance(tcp_to_push, 0.0, kReachRadius,
+                        std::abs(Distance(s.handle_init, s.tcp_init) - kReachRadius)),
+      gripper_closed);
+  RewardTerms terms;
+  terms.reward = 10.0 * HamacherProduct(reach, in_place);
+  terms.success = target_to_obj <= kTargetRadius;
+  terms.near_object = tcp_to_push <= 0.01 ? 1.0 : 0.0;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = reach;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = target_to_obj;
+  return terms;
+}
+
+void DialTurnScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                 std::span<float> action) {
+  const SawyerObs o(env_obs);
+  rotary::BarPush push;
+  push.center = {o.goal[0] - kGoalOffset[0], o.goal[1] - kGoalOffset[1], 0.0};
+  // The ridge's half toward the object point (at -y at rest).
+  push.bar_angle = std::atan2(o.obj1[1] - push.center[1], o.obj1[0] - push.center[0]);
+  push.direction = -1;
+  push.push_at = 0.032;
+  push.height = o.goal[2] - kGoalOffset[2] + 0.052;
+  push.standoff = 0.032;
+  rotary::PushBarAround(o, push, action);
+}
+
+}  // namespace manyworlds::manipulation

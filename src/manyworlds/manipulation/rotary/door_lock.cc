@@ -1,0 +1,146 @@
+#include "manyworlds/manipulation/rotary/door_lock.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/rotary/rotary.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr Vec3 kLockAxis{0.0, -0.118, 0.061};  // from obj_pos
+constexpr Vec3 kLockGoal{0.0, -0.158, -0.039};    // lock axis + (0, -0.04, -0.1)
+constexpr Vec3 kUnlockGoal{0.1, -0.158, 0.061};   // lock axis + (0.1, -0.04, 0)
+constexpr Vec3 kScale{0.25, 1.0, 0.5};
+constexpr double kLockLength = 0.1;
+constexpr double kSuccess = 0.02;
+// v3's sites sit 1 cm to one side of the bar (in its turning plane).
+constexpr double kSiteSide = 0.01;
+constexpr double kSiteAlong = 0.09;
+
+SawyerTaskConfig BaseConfig() {
+  SawyerTaskConfig config;
+  config.xml_file = "door_lock.xml";
+  config.hand_init = {0.0, 0.6, 0.2};
+  config.hand_low = {-0.5, 0.4, -0.15};
+  config.hand_high = {0.5, 1.0, 0.5};
+  config.obj_low = {-0.1, 0.8, 0.15};
+  config.obj_high = {0.1, 0.85, 0.15};
+  config.obj_quat = QuatLayout::kWxyz;
+  config.obj_quat_body = "door";
+  return config;
+}
+
+FixtureSpec LockFixture(double joint_init, const Vec3& goal, double site_z) {
+  FixtureSpec fixture{"door_frame", door::kFrameOffset, "lock_hinge", joint_init, goal};
+  fixture.obj_origin_shift = {0.0, 0.0, site_z};
+  return fixture;
+}
+
+// The bar's angle in the lock's turning plane, (z, x) about the y axis
+// (rotary::BarPush with depth 1), from the object point: the site lies
+// `site_angle` off the bar.
+void PushLockBar(std::span<const float> env_obs, const Vec3& goal_offset, double site_angle,
+                 int direction, std::span<float> action) {
+  const SawyerObs o(env_obs);
+  rotary::BarPush push;
+  const Vec3 obj{o.goal[0] - goal_offset[0], o.goal[1] - goal_offset[1],
+                 o.goal[2] - goal_offset[2]};
+  push.center = {obj[0] + kLockAxis[0], obj[1] + kLockAxis[1], obj[2] + kLockAxis[2]};
+  push.bar_angle =
+      std::atan2(o.obj1[0] - push.center[0], o.obj1[2] - push.center[2]) + site_angle;
+  push.direction = direction;
+  push.push_at = 0.07;
+  push.standoff = 0.03;
+  push.depth = 1;
+  push.height = push.center[1] - 0.024;  // the bar's middle in y
+  push.clear = -0.07;                    // in front of the lock
+  rotary::PushBarAround(o, push, action);
+}
+
+}  // namespace
+
+DoorLockTask::DoorLockTask(SawyerTaskConfig config, FixtureSpec fixture, SawyerOptions options)
+    : ArticulatedTask(std::move(config), std::move(fixture), options) {}
+
+void DoorLockTask::InitTaskState(SawyerState& state) const {
+  ArticulatedTask::InitTaskState(state);
+  for (int i = 0; i < 3; ++i) state.obj_init[i] = obj_pos()[i] + kLockAxis[i];
+}
+
+SawyerTaskConfig DoorLock::Config() {
+  SawyerTaskConfig config = BaseConfig();
+  config.id = "door-lock";
+  config.description = "Sawyer arm: turn a door's lock down";
+  UseGoalOffset(kLockGoal, config);
+  return config;
+}
+
+DoorLock::DoorLock(SawyerOptions options)
+    : DoorLockTask(Config(), LockFixture(0.0, kLockGoal, kSiteSide), options) {}
+
+RewardTerms DoorLock::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  const double tcp_to_obj = WeightedDistance(s.obj, s.left_pad, kScale);
+  const double obj_to_target = std::abs(s.goal[2] - s.obj[2]);
+  const double near_lock = LongTailTolerance(tcp_to_obj, 0.0, 0.01, tcp_to_obj);
+  const double pressed = LongTailTolerance(obj_to_target, 0.0, 0.005, kLockLength);
+  RewardTerms terms;
+  terms.reward =
+      2.0 * HamacherProduct(std::max(s.gripper_opening, 0.0), near_lock) + 8.0 * pressed;
+  terms.success = obj_to_target <= kSuccess;
+  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
+  terms.grasp_reward = near_lock;
+  terms.in_place_reward = pressed;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+SawyerTaskConfig DoorUnlock::Config() {
+  SawyerTaskConfig config = BaseConfig();
+  config.id = "door-unlock";
+  config.description = "Sawyer arm: turn a door's lock back up";
+  UseGoalOffset(kUnlockGoal, config);
+  return config;
+}
+
+DoorUnlock::DoorUnlock(SawyerOptions options)
+    : DoorLockTask(Config(), LockFixture(std::numbers::pi / 2, kUnlockGoal, -kSiteSide),
+                   options) {}
+
+RewardTerms DoorUnlock::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  constexpr Vec3 kShoulder{0.0, 0.055, 0.07};
+  const Vec3 shoulder{s.hand[0] + kShoulder[0], s.hand[1] + kShoulder[1], s.hand[2] + kShoulder[2]};
+  const Vec3 shoulder_init{s.tcp_init[0] + kShoulder[0], s.tcp_init[1] + kShoulder[1],
+                           s.tcp_init[2] + kShoulder[2]};
+  const double shoulder_to_lock = WeightedDistance(shoulder, s.obj, kScale);
+  const double ready = LongTailTolerance(shoulder_to_lock, 0.0, 0.02,
+                                         WeightedDistance(shoulder_init, s.obj_init, kScale));
+  const double obj_to_target = std::abs(s.goal[0] - s.obj[0]);
+  const double pushed = LongTailTolerance(obj_to_target, 0.0, 0.005, kLockLength);
+  RewardTerms terms;
+  terms.reward = 2.0 * ready + 8.0 * pushed;
+  terms.success = obj_to_target <= kSuccess;
+  terms.near_object = shoulder_to_lock <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
+  terms.grasp_reward = ready;
+  terms.in_place_reward = pushed;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void DoorLockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                 std::span<float> action) {
+  // The lock site lies toward +z of the bar (angles atan2(x, z): less).
+  PushLockBar(env_obs, kLockGoal, std::atan2(kSiteSide, kSiteAlong), 1, action);
+}
+
+void DoorUnlockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                   std::span<float> action) {
+  PushLockBar(env_obs, kUnlockGoal, -std::atan2(kSiteSide, kSiteAlong), -1, action);
+}
+
+}  // namespace manyworlds::manipulation
