@@ -28,6 +28,8 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "door-open", "door-close", "drawer-open", "drawer-close", "button-press-topdown",
             "window-open", "window-close", "lever-pull", "peg-insert-side",
             "reach-wall", "push-wall", "pick-place-wall", "push-back",
+            "button-press", "button-press-wall", "button-press-topdown-wall",
+            "handle-press", "handle-press-side", "handle-pull", "handle-pull-side",
             "plate-slide", "plate-slide-side", "plate-slide-back", "plate-slide-back-side",
             "soccer",
             "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock"]

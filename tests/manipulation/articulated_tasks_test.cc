@@ -25,6 +25,10 @@ struct ArticulatedCase {
   Vec3 goal_offset;   // goal - obj_pos
   Vec3 handle_start;  // the object point (obs[4:7]) at reset - obj_pos
   double joint_qpos_start;  // the record's joint_qpos at reset
+  // Random-action successes allowed of 50. handle-press: v3's handle sits
+  // right under the hand's start, and v3's own random policy presses it in
+  // 12 of 50 episodes (measured); ours 6.
+  int max_random = 5;
 };
 
 // The layouts documented in the task headers: Meta-World v3's, measured in
@@ -45,6 +49,13 @@ std::vector<ArticulatedCase> Cases() {
       {"window-close", {0.0, 0.0, 0.0}, {0.21, -0.095, 0.0}, 0.0},
       {"door-close", {0.2, -0.2, 0.0}, door_close_start, -1.5708},
       {"lever-pull", {0.12, 0.0, 0.45}, {0.12, -0.2, 0.25}, 0.0},
+      {"button-press", {0.0, -0.1, 0.0}, {0.0, -0.193, 0.0}, 0.0},
+      {"button-press-wall", {0.0, -0.1, 0.0}, {0.0, -0.193, 0.0}, 0.0},
+      {"button-press-topdown-wall", {0.0, 0.0, 0.1}, {0.0, 0.0, 0.1935}, 0.0},
+      {"handle-press", {0.0, -0.216, 0.075}, {0.0, -0.216, 0.171}, 0.0, 10},
+      {"handle-press-side", {0.216, 0.0, 0.075}, {0.216, 0.0, 0.171}, 0.0},
+      {"handle-pull", {0.0, -0.216, 0.172}, {0.05, -0.216, 0.064}, 0.0},
+      {"handle-pull-side", {0.216, 0.0, 0.172}, {0.17, 0.0, 0.05}, 0.0},
   };
 }
 
@@ -131,18 +142,21 @@ TEST_P(ArticulatedTaskTest, RecordHoldsTheFixtureQuantitiesMetaWorldReads) {
   EXPECT_NEAR(s.joint_qpos, GetParam().joint_qpos_start, 1e-3);
   for (int k = 0; k < 3; ++k) {
     EXPECT_EQ(s.handle_init[k], s.obj[k]);  // the object point at reset
-    // v3's obj_init_pos: the object point in drawer-close, obj_pos elsewhere.
-    EXPECT_EQ(s.obj_init[k], GetParam().id == "drawer-close" ? s.obj[k] : obj[k]);
+    // v3's obj_init_pos: the object point in drawer-close and
+    // handle-pull-side, obj_pos elsewhere.
+    const bool at_point = GetParam().id == "drawer-close" || GetParam().id == "handle-pull-side";
+    EXPECT_EQ(s.obj_init[k], at_point ? s.obj[k] : obj[k]);
   }
-  EXPECT_NEAR(s.obj_to_target_init, GetParam().id == "button-press-topdown" ? 0.0935 : 0.0, 1e-4);
-  // obs[7:11]: (w, x, y, z) of an upright body in drawer-open and
-  // button-press-topdown, zeros in drawer-close and the windows.
+  EXPECT_NEAR(s.obj_to_target_init, GetParam().id.starts_with("button-press") ? 0.0935 : 0.0, 1e-4);
+  // obs[7:11]: (w, x, y, z) of an upright body in drawer-open and the
+  // button tasks, zeros in drawer-close and the windows.
   const std::vector<float> quat(obs.env_obs.begin() + kObsObj1Quat,
                                 obs.env_obs.begin() + kObsObj1Quat + 4);
   const std::string& id = GetParam().id;
-  if (id == "drawer-open" || id == "button-press-topdown") {
+  if (id == "drawer-open" || id.starts_with("button-press")) {
     EXPECT_NEAR(quat[0], 1.0f, 1e-4);
-  } else if (id == "drawer-close" || id == "window-open" || id == "window-close") {
+  } else if (id == "drawer-close" || id == "window-open" || id == "window-close" ||
+             id.starts_with("handle-")) {
     EXPECT_EQ(quat, std::vector<float>(4, 0.0f));
   }
 }
@@ -164,7 +178,7 @@ TEST_P(ArticulatedTaskTest, RandomActionsRarelySucceed) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("%s: random %d/50 (%.0f steps/s)\n", GetParam().id.c_str(), successes,
               (50.0 * kMaxEpisodeSteps) / seconds);
-  EXPECT_LE(successes, 5);
+  EXPECT_LE(successes, GetParam().max_random);
 }
 
 INSTANTIATE_TEST_SUITE_P(Fixtures, ArticulatedTaskTest, ::testing::ValuesIn(Cases()),

@@ -24,8 +24,12 @@ import numpy as np
 # neutral zeros for tasks that have none.
 JOINT_QPOS = {"door-open": "doorjoint", "door-close": "doorjoint", "lever-pull": "LeverAxis"}
 HANDLE_INIT = {"window-open": "window_handle_pos_init", "window-close": "window_handle_pos_init",
-               "lever-pull": "_lever_pos_init", "dial-turn": "dial_push_position"}
-OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init"}
+               "lever-pull": "_lever_pos_init", "dial-turn": "dial_push_position",
+               "handle-press": "_handle_init_pos", "handle-press-side": "_handle_init_pos"}
+OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init",
+                      "button-press": "_obj_to_target_init",
+                      "button-press-wall": "_obj_to_target_init",
+                      "button-press-topdown-wall": "_obj_to_target_init"}
 
 
 def state_record(env, obs, task=None):

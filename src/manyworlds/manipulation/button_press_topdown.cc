@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace manyworlds::manipulation {
 namespace {
@@ -35,6 +36,9 @@ SawyerTaskConfig ButtonPressTopdown::Config() {
 
 ButtonPressTopdown::ButtonPressTopdown(SawyerOptions options)
     : ArticulatedTask(Config(), Fixture(), options) {}
+
+ButtonPressTopdown::ButtonPressTopdown(SawyerTaskConfig config, SawyerOptions options)
+    : ArticulatedTask(std::move(config), Fixture(), options) {}
 
 void ButtonPressTopdown::InitTaskState(SawyerState& s) const {
   ArticulatedTask::InitTaskState(s);

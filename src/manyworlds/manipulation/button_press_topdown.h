@@ -29,6 +29,9 @@ class ButtonPressTopdown : public ArticulatedTask {
   static SawyerTaskConfig Config();
 
  protected:
+  // For a variant on the same button (press/button-press-topdown-wall): its
+  // own config (id, model file) with this task's fixture.
+  ButtonPressTopdown(SawyerTaskConfig config, SawyerOptions options);
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
   // Also obj_to_target_init.
   void InitTaskState(SawyerState& state) const override;

@@ -21,6 +21,8 @@
 #include "manyworlds/manipulation/shelf_place.h"
 #include "manyworlds/manipulation/sweep.h"
 #include "manyworlds/manipulation/slide/plate_slide.h"
+#include "manyworlds/manipulation/press/buttons.h"
+#include "manyworlds/manipulation/press/handles.h"
 #include "manyworlds/manipulation/slide/push_back.h"
 #include "manyworlds/manipulation/slide/soccer.h"
 #include "manyworlds/manipulation/sweep_into.h"
@@ -79,6 +81,13 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<DialTurn, DialTurnScriptedPolicy>(),
       Entry<DoorLock, DoorLockScriptedPolicy>(),
       Entry<DoorUnlock, DoorUnlockScriptedPolicy>(),
+      Entry<ButtonPress, ButtonPressScriptedPolicy>(),
+      Entry<ButtonPressWall, ButtonPressWallScriptedPolicy>(),
+      Entry<ButtonPressTopdownWall, ButtonPressTopdownWallScriptedPolicy>(),
+      Entry<HandlePress, HandlePressScriptedPolicy>(),
+      Entry<HandlePressSide, HandlePressScriptedPolicy>(),
+      Entry<HandlePull, HandlePullScriptedPolicy>(),
+      Entry<HandlePullSide, HandlePullSideScriptedPolicy>(),
   };
   return tasks;
 }
