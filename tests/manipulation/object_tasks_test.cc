@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "manyworlds/manipulation/manipulation.h"
+#include "tests/manipulation/episode_success.h"
 #include "manyworlds/manipulation/policy_utils.h"
 #include "manyworlds/manipulation/sawyer_task.h"
 
@@ -21,27 +22,8 @@ namespace {
 
 constexpr int kVariations = 50;
 
-// Episodes (of kVariations, from task seed `task_seed`) in which `policy`
-// reaches info success at some step.
 int CountSuccesses(Env& env, Policy& policy, uint64_t task_seed) {
-  env.SeedTask(task_seed);
-  int successes = 0;
-  std::vector<float> action(4);
-  for (int variation = 0; variation < kVariations; ++variation) {
-    env.ResetTaskState();
-    Observation obs = env.Reset();
-    policy.BeginEpisode();
-    for (int t = 0; t < kMaxEpisodeSteps; ++t) {
-      policy.Act(obs.env_obs, obs.task_obs, action);
-      StepResult r = env.Step(action);
-      if (r.info.Get("success") > 0) {
-        ++successes;
-        break;
-      }
-      obs = r.obs;
-    }
-  }
-  return successes;
+  return manipulation::CountSuccesses(env, policy, kVariations, task_seed);
 }
 
 class ObjectTaskTest : public ::testing::TestWithParam<std::string> {

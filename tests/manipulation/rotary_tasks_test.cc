@@ -17,6 +17,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/manipulation.h"
+#include "tests/manipulation/episode_success.h"
 #include "manyworlds/manipulation/sawyer_task.h"
 
 namespace manyworlds::manipulation {
@@ -66,27 +67,7 @@ class RotaryTaskTest : public ::testing::TestWithParam<RotaryCase> {
   // Successful episodes (info "success" at any step) out of `variations`.
   int CountSuccesses(Policy& policy, int variations, uint64_t task_seed,
                      double* mean_steps = nullptr) {
-    env_->SeedTask(task_seed);
-    int successes = 0;
-    long success_steps = 0;
-    std::vector<float> action(4);
-    for (int variation = 0; variation < variations; ++variation) {
-      env_->ResetTaskState();
-      Observation obs = env_->Reset();
-      policy.BeginEpisode();
-      for (int t = 0; t < kMaxEpisodeSteps; ++t) {
-        policy.Act(obs.env_obs, obs.task_obs, action);
-        StepResult r = env_->Step(action);
-        if (r.info.Get("success") > 0) {
-          ++successes;
-          success_steps += t + 1;
-          break;
-        }
-        obs = r.obs;
-      }
-    }
-    if (mean_steps != nullptr) *mean_steps = successes ? double(success_steps) / successes : 0.0;
-    return successes;
+    return manipulation::CountSuccesses(*env_, policy, variations, task_seed, mean_steps);
   }
 
   Registry registry_;
