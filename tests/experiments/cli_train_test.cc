@@ -254,7 +254,7 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
       {"train tiny.yaml --resume nowhere", 2, "resume"},
       {"train tiny.yaml --restart", 2, "--resume"},
       {"eval nowhere", 2, "nowhere"},
-      {"train tiny.yaml env.options.max_episode_steps=0", 2, "[1, 1000000]"},
+      {"train tiny.yaml +env.options.max_episode_steps=0", 2, "[1, 1000000]"},
       {"bench agent --obs-dim 100000 --batch 1000000", 2, "GiB"},
   };
   for (const auto& c : cases) {
