@@ -3,9 +3,11 @@
 # whole test suite: the C++ tests (ctest), then the Python package's tests
 # (scripts/python_test.sh: virtual environment .venv-py/, `pip install .`,
 # pytest; its determinism test compares with the program built here), then
-# 20 seconds of each libFuzzer target (scripts/fuzz.sh, clang + ASan/UBSan).
-# Idempotent; MANYWORLDS_BUILD_DIR picks another build directory (default
-# build/). Exits non-zero if either suite fails; both always run.
+# 20 seconds of each libFuzzer target (scripts/fuzz.sh, clang + ASan/UBSan),
+# then the C++ tests of the layers without libtorch built with ASan/UBSan
+# (scripts/sanitize.sh, build-asan/). Idempotent; MANYWORLDS_BUILD_DIR picks
+# another build directory (default build/). Exits non-zero if any suite
+# fails; all always run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${MANYWORLDS_BUILD_DIR:-build}
@@ -20,8 +22,11 @@ py_status=0
 MANYWORLDS_CLI="$cli" bash scripts/python_test.sh || py_status=$?
 fuzz_status=0
 bash scripts/fuzz.sh || fuzz_status=$?
-if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ] || [ "$fuzz_status" -ne 0 ]; then
+sanitize_status=0
+bash scripts/sanitize.sh || sanitize_status=$?
+if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ] || [ "$fuzz_status" -ne 0 ] ||
+   [ "$sanitize_status" -ne 0 ]; then
   echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status," \
-       "fuzzing exit code $fuzz_status" >&2
+       "fuzzing exit code $fuzz_status, sanitizer build exit code $sanitize_status" >&2
   exit 1
 fi
