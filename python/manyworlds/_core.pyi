@@ -62,6 +62,15 @@ def registry_entries() -> List[RegistryEntry]:
 def mix_seed(seed: int, index: int) -> int:
     """Derives an independent seed from (seed, index), as the executor and the CLI do."""
 
+sawyer_state_fields: List[str]
+"""The keys of a manipulation task's state record (only with MuJoCo)."""
+
+def sawyer_reward(env: "Env", state: Dict[str, Any], action: npt.NDArray[np.float32]) -> Dict[str, float]:
+    """Reward, success and info of manipulation env `env` for a state record and a 4-value action."""
+
+def sawyer_state(env: "Env") -> Dict[str, Any]:
+    """The state record of manipulation env `env` after its last reset or step."""
+
 class Rng:
     """manyworlds' portable random generator (xoshiro256**)."""
 

@@ -5,7 +5,7 @@ import inspect
 import pathlib
 
 import manyworlds
-from manyworlds import _core, benchmarks, env, vector
+from manyworlds import _core, benchmarks, env, manipulation, vector
 
 
 def stub_names():
@@ -34,7 +34,7 @@ def test_stubs_cover_the_extension():
 
 def test_every_public_callable_has_a_docstring():
     missing = []
-    for module in (manyworlds, env, vector, benchmarks):
+    for module in (manyworlds, env, vector, benchmarks, manipulation):
         for name, obj in vars(module).items():
             if name.startswith("_") or getattr(obj, "__module__", "").split(".")[0] != "manyworlds":
                 continue
