@@ -1,6 +1,8 @@
-// Any text as a task state of a MuJoCo env (the first byte picks the env, in
-// registry order: the manipulation tasks, the benchmarks mt10, ml10, mt1,
-// ml1, then half-cheetah-vel and half-cheetah-dir). TaskState::Parse and
+// Any text as a task state of a MuJoCo env: the manipulation tasks, the
+// benchmarks (mt10, ml10, mt1, ml1) and half-cheetah-vel and -dir. The first
+// byte picks the env: 0 the one the state's "env" field names (so that the
+// seeds stay valid when the registry grows), n > 0 the (n-1)th in registry
+// order (states of one env given to another). TaskState::Parse and
 // Env::SetTaskState accept it or throw an Error; an accepted state
 //  - reads back with GetTaskState, and that state, dumped and parsed, is
 //    accepted again and reads back the same;
@@ -9,7 +11,9 @@
 // The envs are made once (a model per input would cost milliseconds).
 //
 // MANYWORLDS_FUZZ_WRITE_SEEDS=DIR writes one valid task state per env into
-// DIR (as tests/fuzz/corpus/task_state_mujoco/ holds them) and exits.
+// DIR (as tests/fuzz/corpus/task_state_mujoco/ holds them) and exits; run it
+// again when a task's ranges change (a seed that is refused still parses,
+// but no longer reaches reset and step).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -59,9 +63,9 @@ void WriteSeeds(const std::string& dir) {
   for (size_t i = 0; i < envs.all.size(); ++i) {
     manyworlds::Env& env = *envs.all[i];
     env.SeedTask(1);
-    const std::string name = dir + "/" + std::to_string(i) + "_" + envs.ids[i] + ".txt";
+    const std::string name = dir + "/" + envs.ids[i] + ".txt";
     std::ofstream out(name, std::ios::binary);
-    out << static_cast<char>(i) << env.SampleTaskState().Dump();
+    out << '\0' << env.SampleTaskState().Dump();  // the env its "env" field names
     if (!out) {
       std::fprintf(stderr, "cannot write %s\n", name.c_str());
       std::exit(1);
@@ -80,10 +84,21 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   Envs& envs = AllEnvs();
   if (size == 0) return 0;
-  manyworlds::Env& env = *envs.all[data[0] % envs.all.size()];
   const std::string_view text(reinterpret_cast<const char*>(data + 1), size - 1);
+  manyworlds::TaskState state;
   try {
-    env.SetTaskState(manyworlds::TaskState::Parse(text));
+    state = manyworlds::TaskState::Parse(text);
+  } catch (const manyworlds::Error&) {
+    return 0;
+  }
+  size_t index = data[0] == 0 ? envs.ids.size() : (data[0] - 1u) % envs.all.size();
+  for (size_t i = 0; data[0] == 0 && i < envs.ids.size(); ++i) {
+    if (envs.ids[i] == state.env) index = i;
+  }
+  if (index >= envs.all.size()) return 0;  // names no env
+  manyworlds::Env& env = *envs.all[index];
+  try {
+    env.SetTaskState(state);
   } catch (const manyworlds::Error&) {
     return 0;
   }
