@@ -38,10 +38,9 @@ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=
 # the ones named on the command line
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
+  defined=$(cmake --build build-fuzz --target help)
   for target in yaml override task_state task_state_mujoco checkpoint replay; do
-    if cmake --build build-fuzz --target help | grep -qx "\.\.\. fuzz_$target"; then
-      targets+=("$target")
-    fi
+    if grep -qx "\.\.\. fuzz_$target" <<< "$defined"; then targets+=("$target"); fi
   done
 fi
 cmake --build build-fuzz -j "${MANYWORLDS_JOBS:-$(nproc)}" --target "${targets[@]/#/fuzz_}" \
