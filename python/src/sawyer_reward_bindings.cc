@@ -1,6 +1,7 @@
 // manyworlds._core.sawyer_reward: a manipulation task's reward, success and
 // info evaluated on a state record given from Python (e.g. quantities read
 // from Meta-World's own simulator), for the fidelity tests.
+#include <array>
 #include <cmath>
 #include <set>
 #include <string>
@@ -30,6 +31,15 @@ manipulation::Vec3 ReadVec3(const py::dict& record, const char* key) {
                       std::to_string(values.size()));
   }
   return {values[0], values[1], values[2]};
+}
+
+std::array<double, 4> ReadVec4(const py::dict& record, const char* key) {
+  const auto values = record[key].cast<std::vector<double>>();
+  if (values.size() != 4) {
+    throw ConfigError(std::string("sawyer_reward: '") + key + "' must have 4 values, got " +
+                      std::to_string(values.size()));
+  }
+  return {values[0], values[1], values[2], values[3]};
 }
 
 SawyerState ReadRecord(const py::dict& record) {
@@ -65,6 +75,7 @@ SawyerState ReadRecord(const py::dict& record) {
   s.joint_qpos = record["joint_qpos"].cast<double>();
   s.handle_init = ReadVec3(record, "handle_init");
   s.obj_to_target_init = record["obj_to_target_init"].cast<double>();
+  s.obj_quat = ReadVec4(record, "obj_quat");
   return s;
 }
 
@@ -112,6 +123,7 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["joint_qpos"] = s.joint_qpos;
   out["handle_init"] = vec(s.handle_init);
   out["obj_to_target_init"] = s.obj_to_target_init;
+  out["obj_quat"] = std::vector<double>(s.obj_quat.begin(), s.obj_quat.end());
   return out;
 }
 #endif

@@ -56,6 +56,7 @@ def state_record(env, obs, task=None):
         "handle_init": vec(getattr(env, HANDLE_INIT[task]) if task in HANDLE_INIT else np.zeros(3)),
         "obj_to_target_init": (float(getattr(env, OBJ_TO_TARGET_INIT[task]))
                                if task in OBJ_TO_TARGET_INIT else 0.0),
+        "obj_quat": vec(obs[7:11]),
     }
 
 

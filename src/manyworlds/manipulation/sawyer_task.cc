@@ -303,6 +303,9 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   if (!std::isfinite(state.joint_qpos) || !std::isfinite(state.obj_to_target_init)) {
     throw Error("env '" + config_.id + "': EvaluateReward: joint_qpos or obj_to_target_init is not finite");
   }
+  for (double x : state.obj_quat) {
+    if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: obj_quat is not finite");
+  }
   return ComputeReward(state, clipped);
 }
 
@@ -315,6 +318,16 @@ void SawyerTask::RefreshState() {
   state_.obj = ToVec3(d->xpos + 3 * obj_body_);
   state_.goal = goal_pos_;
   state_.gripper_opening = std::clamp(Distance(state_.left_pad, state_.right_pad) / 0.1, 0.0, 1.0);
+  // MuJoCo stores (w, x, y, z); the observation uses the task's layout.
+  const mjtNum* q = d->xquat + 4 * obj_quat_body_;
+  static constexpr int kXyzwOrder[4] = {1, 2, 3, 0};
+  for (int i = 0; i < 4; ++i) {
+    switch (config_.obj_quat) {
+      case QuatLayout::kXyzw: state_.obj_quat[i] = q[kXyzwOrder[i]]; break;
+      case QuatLayout::kWxyz: state_.obj_quat[i] = q[i]; break;
+      case QuatLayout::kZeros: state_.obj_quat[i] = 0.0; break;
+    }
+  }
   state_.touching_obj = false;
   for (int i = 0; i < d->ncon; ++i) {
     const mjContact& c = d->contact[i];
@@ -335,16 +348,7 @@ void SawyerTask::WriteFrame(float* frame) const {
   }
   frame[kObsGripper] = static_cast<float>(state_.gripper_opening);
   for (int i = 0; i < 3; ++i) frame[kObsObj1Pos + i] = static_cast<float>(state_.obj[i]);
-  // MuJoCo stores (w, x, y, z); the observation uses the task's layout.
-  const mjtNum* q = d->xquat + 4 * obj_quat_body_;
-  static constexpr int kXyzwOrder[4] = {1, 2, 3, 0};
-  for (int i = 0; i < 4; ++i) {
-    switch (config_.obj_quat) {
-      case QuatLayout::kXyzw: frame[kObsObj1Quat + i] = static_cast<float>(q[kXyzwOrder[i]]); break;
-      case QuatLayout::kWxyz: frame[kObsObj1Quat + i] = static_cast<float>(q[i]); break;
-      case QuatLayout::kZeros: frame[kObsObj1Quat + i] = 0.0f; break;
-    }
-  }
+  for (int i = 0; i < 4; ++i) frame[kObsObj1Quat + i] = static_cast<float>(state_.obj_quat[i]);
   WriteObject2(d, frame + kObsObj2Pos);
 }
 

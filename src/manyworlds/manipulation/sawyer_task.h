@@ -37,6 +37,7 @@
 #ifndef MANYWORLDS_MANIPULATION_SAWYER_TASK_H_
 #define MANYWORLDS_MANIPULATION_SAWYER_TASK_H_
 
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -124,6 +125,9 @@ struct SawyerState {
   // Height of the object point above the goal at reset
   // [_obj_to_target_init (button-press-topdown)].
   double obj_to_target_init = 0;
+  // obs[7:11], the object's orientation in the task's layout (QuatLayout)
+  // [obs[7:11], _get_quat_objects()]; assembly and disassemble reward it.
+  std::array<double, 4> obj_quat{};
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
@@ -131,7 +135,8 @@ inline constexpr const char* kSawyerStateFields[] = {
     "hand",     "tcp",      "left_pad",  "right_pad",       "obj",         "goal",
     "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj",
     "obj_head", "obj_head_init",
-    "joint_qpos", "handle_init", "obj_to_target_init"};  // articulated tasks
+    "joint_qpos", "handle_init", "obj_to_target_init",  // articulated tasks
+    "obj_quat"};
 
 // One step's reward and info values.
 struct RewardTerms {
