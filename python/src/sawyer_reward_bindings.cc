@@ -76,6 +76,8 @@ SawyerState ReadRecord(const py::dict& record) {
   s.handle_init = ReadVec3(record, "handle_init");
   s.obj_to_target_init = record["obj_to_target_init"].cast<double>();
   s.obj_quat = ReadVec4(record, "obj_quat");
+  s.obj2 = ReadVec3(record, "obj2");
+  s.obj2_init = ReadVec3(record, "obj2_init");
   return s;
 }
 
@@ -124,6 +126,8 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["handle_init"] = vec(s.handle_init);
   out["obj_to_target_init"] = s.obj_to_target_init;
   out["obj_quat"] = std::vector<double>(s.obj_quat.begin(), s.obj_quat.end());
+  out["obj2"] = vec(s.obj2);
+  out["obj2_init"] = vec(s.obj2_init);
   return out;
 }
 #endif

@@ -47,8 +47,9 @@ def state_record(env, obs, task=None):
         "hand_init": vec(env.hand_init_pos),
         "gripper_opening": float(obs[3]),
         "touching_obj": touching(env),
-        # peg-insert-side
-        "obj_head": vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else [0.0] * 3,
+        # peg-insert-side (pegHead), stick-pull (stick_end)
+        "obj_head": (vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else
+                     vec(env._get_site_pos("stick_end")) if task == "stick-pull" else [0.0] * 3),
         "obj_head_init": vec(getattr(env, "peg_head_pos_init", np.zeros(3))),
         # articulated tasks
         "joint_qpos": (float(env.data.joint(JOINT_QPOS[task]).qpos.item())
@@ -57,6 +58,9 @@ def state_record(env, obs, task=None):
         "obj_to_target_init": (float(getattr(env, OBJ_TO_TARGET_INIT[task]))
                                if task in OBJ_TO_TARGET_INIT else 0.0),
         "obj_quat": vec(obs[7:11]),
+        # tool-use tasks: the second object (obs[11:14]) and the thermos's base at reset
+        "obj2": vec(obs[11:14]),
+        "obj2_init": vec(env.obj_init_pos) if task in ("stick-push", "stick-pull") else [0.0] * 3,
     }
 
 

@@ -292,7 +292,8 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   }
   for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
                         &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init,
-                        &state.obj_head, &state.obj_head_init, &state.handle_init}) {
+                        &state.obj_head, &state.obj_head_init, &state.handle_init,
+                        &state.obj2, &state.obj2_init}) {
     for (double x : *v) {
       if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
     }

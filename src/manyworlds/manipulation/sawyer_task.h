@@ -111,8 +111,8 @@ struct SawyerState {
   Vec3 hand_init{};  // the configured hand start [hand_init_pos]
   double gripper_opening = 0;  // obs[3]
   bool touching_obj = false;   // pads in contact with the object [touching_main_object]
-  // peg-insert-side (zeros elsewhere)
-  Vec3 obj_head{};       // the peg's head [site "pegHead"]
+  // peg-insert-side, stick-pull (zeros elsewhere)
+  Vec3 obj_head{};       // the peg's head [site "pegHead"]; the stick's end [site "stick_end"]
   Vec3 obj_head_init{};  // [peg_head_pos_init]
   // articulated tasks (zeros where a task has no such quantity)
   // The fixture joint in Meta-World's sign convention: the door hinge,
@@ -128,6 +128,12 @@ struct SawyerState {
   // obs[7:11], the object's orientation in the task's layout (QuatLayout)
   // [obs[7:11], _get_quat_objects()]; assembly and disassemble reward it.
   std::array<double, 4> obj_quat{};
+  // Tool-use tasks (zeros elsewhere): obs[11:14], the second object's point
+  // [_get_pos_objects()[3:6]: the nail (hammer), the thermos (stick-push,
+  // stick-pull)], and the thermos's base frame at reset [obj_init_pos
+  // (stick-push, stick-pull)].
+  Vec3 obj2{};
+  Vec3 obj2_init{};
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
@@ -136,7 +142,8 @@ inline constexpr const char* kSawyerStateFields[] = {
     "obj_init", "tcp_init", "hand_init", "gripper_opening", "touching_obj",
     "obj_head", "obj_head_init",
     "joint_qpos", "handle_init", "obj_to_target_init",  // articulated tasks
-    "obj_quat"};
+    "obj_quat",
+    "obj2", "obj2_init"};  // tool-use tasks
 
 // One step's reward and info values.
 struct RewardTerms {
