@@ -2,6 +2,11 @@
 
 #include "manyworlds/classic/classic.h"
 #include "manyworlds/core/error.h"
+#ifdef MANYWORLDS_HAS_BOXWORLD
+#include "manyworlds/boxworld/boxworld.h"
+#include "manyworlds/boxworld/world_model.h"
+#include "manyworlds/core/atomic_file.h"
+#endif
 #ifdef MANYWORLDS_HAS_LOCOMOTION
 #include "manyworlds/locomotion/locomotion.h"
 #endif
@@ -23,6 +28,9 @@ const Registry& DefaultRegistry() {
 #ifdef MANYWORLDS_HAS_LOCOMOTION
     RegisterLocomotionSuite(r);
 #endif
+#ifdef MANYWORLDS_HAS_BOXWORLD
+    RegisterBoxWorldSuite(r);
+#endif
     return r;
   }();
   return registry;
@@ -33,6 +41,9 @@ std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options) {
 }
 
 std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
+#ifdef MANYWORLDS_HAS_BOXWORLD
+  if (std::unique_ptr<Policy> policy = boxworld::MakeScriptedPolicy(env)) return policy;
+#endif
 #ifdef MANYWORLDS_HAS_MANIPULATION
   return manipulation::MakeScriptedPolicyFor(env);
 #else
@@ -42,6 +53,12 @@ std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
 }
 
 void SaveTaskXml(const Env& env, const std::string& path) {
+#ifdef MANYWORLDS_HAS_BOXWORLD
+  if (const boxworld::BoxWorldEnv* box = boxworld::FindBoxWorld(env); box && box->has_task()) {
+    AtomicWriteFile(path, boxworld::WorldMjcf(box->world()).ToXml());
+    return;
+  }
+#endif
 #ifdef MANYWORLDS_HAS_MANIPULATION
   if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
     task->SaveVariationXml(path);
@@ -52,18 +69,23 @@ void SaveTaskXml(const Env& env, const std::string& path) {
 #endif
   throw ConfigError("env '" + env.id() +
                     "' has no MuJoCo model to export; export-xml works for the manipulation "
-                    "tasks and benchmarks");
+                    "tasks, benchmarks and the box world");
 }
 
 MujocoScene ActiveMujocoScene(const Env& env) {
+#ifdef MANYWORLDS_HAS_BOXWORLD
+  if (const boxworld::BoxWorldEnv* box = boxworld::FindBoxWorld(env); box && box->has_task()) {
+    return {box->model(), box->data()};
+  }
+#endif
 #ifdef MANYWORLDS_HAS_MANIPULATION
   if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
     return {task->model(), task->data()};
   }
 #endif
   throw ConfigError("env '" + env.id() +
-                    "' has no MuJoCo scene; rendering works for the manipulation tasks and "
-                    "benchmarks");
+                    "' has no MuJoCo scene; rendering works for the manipulation tasks, benchmarks "
+                    "and the box world");
 }
 
 }  // namespace manyworlds

@@ -32,17 +32,18 @@ const Registry& DefaultRegistry();
 std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options = {});
 
 // The scripted (expert) policy of an env that has one: the manipulation
-// tasks and benchmarks, also behind wrappers. `env` must outlive it. Throws
-// ConfigError for other envs.
+// tasks and benchmarks and the box world, also behind wrappers. `env` must
+// outlive it. Throws ConfigError for other envs.
 std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env);
 
 // Writes the complete MJCF of the current task (variation) of a MuJoCo env
-// (a manipulation task or benchmark, also behind wrappers) to `path`.
-// Throws ConfigError for other envs.
+// (a manipulation task or benchmark, or the box world's current world, also
+// behind wrappers) to `path`. Throws ConfigError for other envs.
 void SaveTaskXml(const Env& env, const std::string& path);
 
 // The MuJoCo model and data that simulate the current task of `env` (a
-// manipulation task or benchmark, also behind wrappers), for rendering.
+// manipulation task or benchmark, or the box world, also behind wrappers),
+// for rendering.
 // Both belong to the env: valid until its next SetTaskState, and the data
 // changes with every step. Throws ConfigError for other envs and before a
 // benchmark has a task.

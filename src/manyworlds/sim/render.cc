@@ -203,6 +203,14 @@ mjvCamera Renderer::ResolveCamera(const mjModel* model, const mjData* data,
                                   std::string_view camera) const {
   mjvCamera cam;
   mjv_defaultCamera(&cam);
+  // a model's own camera wins over a preset of the same name, so generated
+  // scenes (the box world) can frame their own "top"
+  const int id = mj_name2id(model, mjOBJ_CAMERA, std::string(camera).c_str());
+  if (id >= 0) {
+    cam.type = mjCAMERA_FIXED;
+    cam.fixedcamid = id;
+    return cam;
+  }
   if (const CameraPreset* preset = FindPreset(camera)) {
     cam.type = mjCAMERA_FREE;
     cam.distance = preset->distance;
@@ -217,12 +225,6 @@ mjvCamera Renderer::ResolveCamera(const mjModel* model, const mjData* data,
       }
       for (int k = 0; k < 3; ++k) cam.lookat[k] += data->xpos[3 * body + k];
     }
-    return cam;
-  }
-  const int id = mj_name2id(model, mjOBJ_CAMERA, std::string(camera).c_str());
-  if (id >= 0) {
-    cam.type = mjCAMERA_FIXED;
-    cam.fixedcamid = id;
     return cam;
   }
   const std::vector<std::string> names = CameraNames(model);

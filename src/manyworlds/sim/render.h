@@ -21,8 +21,9 @@
 //   side     free camera at the table's side (+x), looking along -x
 //   gripper  follows the body "hand" from the side, looking down at the
 //            finger tips (aimed 6 cm below the hand, 0.5 m away)
-//   any camera defined in the model (<camera name=...>); a preset wins
-//   over a model camera of the same name
+//   any camera defined in the model (<camera name=...>); a model camera
+//   wins over a preset of the same name (the box world defines its own
+//   top and perspective)
 // The free presets are framed for the Sawyer scenes (table top z = 0, robot
 // base at y = 0.15, workspace around (0, 0.6..0.9, 0..0.3)).
 //

@@ -1,0 +1,222 @@
+#include "manyworlds/boxworld/boxworld.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/wrapper.h"
+
+namespace manyworlds {
+namespace boxworld {
+namespace {
+
+// [value, value_max], value_max = -1 meaning the fixed value.
+Vec2 FloatRange(const Options& o, const std::string& name) {
+  const double low = o.Float(name);
+  const double high = o.Float(name + "_max");
+  return {low, high == -1.0 ? low : high};
+}
+
+std::vector<Shape> ParseShapes(const std::string& env_id, const std::string& text) {
+  std::vector<Shape> shapes;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    const std::optional<Shape> shape = ParseShape(item);
+    if (!shape) {
+      throw ConfigError("env '" + env_id + "': option 'box_shapes' takes a comma-separated list " +
+                        "of box, cylinder, sphere; got '" + text + "'");
+    }
+    if (std::find(shapes.begin(), shapes.end(), *shape) == shapes.end()) shapes.push_back(*shape);
+  }
+  if (shapes.empty()) {
+    throw ConfigError("env '" + env_id + "': option 'box_shapes' must name at least one of box, " +
+                      "cylinder, sphere");
+  }
+  return shapes;
+}
+
+std::vector<OptionSpec> BoxWorldOptions() {
+  const WorldDistribution d;
+  return {
+      {"floor_size", OptionType::kFloat, d.floor_size[0],
+       "side of the square floor in m, [1, 100]; the lower end of the range with floor_size_max"},
+      {"floor_size_max", OptionType::kFloat, -1.0,
+       "upper end of the floor_size range (drawn uniformly); -1: fixed at floor_size"},
+      {"num_boxes", OptionType::kInt, int64_t{d.num_boxes[0]},
+       "number of boxes, [0, 64] ([1, 64] for the complex task); lower end with num_boxes_max"},
+      {"num_boxes_max", OptionType::kInt, int64_t{-1},
+       "upper end of the num_boxes range (uniform); -1: fixed at num_boxes; <= max_boxes"},
+      {"box_shapes", OptionType::kString, std::string("box"),
+       "shapes drawn (uniformly) for each box: a comma-separated list of box, cylinder, sphere"},
+      {"box_size", OptionType::kFloat, d.box_size[0],
+       "half-extent of a box, radius of a cylinder or sphere, in m, [0.01, floor_size / 4]; "
+       "lower end with box_size_max"},
+      {"box_size_max", OptionType::kFloat, -1.0, "upper end of the box_size range; -1: fixed"},
+      {"box_mass", OptionType::kFloat, d.box_mass[0], "box mass in kg, [0.001, 1000]"},
+      {"box_mass_max", OptionType::kFloat, -1.0, "upper end of the box_mass range; -1: fixed"},
+      {"box_friction", OptionType::kFloat, d.box_friction[0],
+       "box sliding friction coefficient, [0, 10]"},
+      {"box_friction_max", OptionType::kFloat, -1.0,
+       "upper end of the box_friction range; -1: fixed"},
+      {"random_colors", OptionType::kBool, d.random_colors,
+       "draw each box's colour from a palette of 8 (else one colour per shape)"},
+      {"wall_height", OptionType::kFloat, d.wall_height, "wall height in m, [0.05, 10]"},
+      {"agent_radius", OptionType::kFloat, d.agent_radius,
+       "agent sphere radius in m, [0.01, floor_size / 4]"},
+      {"agent_force", OptionType::kFloat, d.agent_force,
+       "force in N on x and y at action +-1, (0, 10000]; top speed = agent_force / 2.5 m/s"},
+      {"agent_torque", OptionType::kFloat, d.agent_torque,
+       "torque in N m about z at action +-1, (0, 10000]"},
+      {"success_radius_ratio", OptionType::kFloat, d.success_radius_ratio,
+       "success radius (reach, delivery) as a fraction of floor_size, up to 0.25 (the study: "
+       "1 m on 5 m = 0.2)"},
+      {"min_target_distance_ratio", OptionType::kFloat, d.min_target_distance_ratio,
+       "minimum target distance from the agent and every box start, as a fraction of "
+       "floor_size, [success_radius_ratio, (1 - 2 success_radius_ratio) / sqrt(2)]"},
+      {"layout_seed", OptionType::kInt, int64_t{-1},
+       "-1: every task is a new world; >= 0: every task shares the layout (floor, boxes, "
+       "starts) drawn from this seed and only the target varies"},
+      {"max_boxes", OptionType::kInt, int64_t{8},
+       "box slots in the observation (masked), [1, 64]; keep it equal across envs that share a "
+       "policy"},
+      {"hide_target", OptionType::kBool, false,
+       "if true (meta-RL) the task observation (the target) is zero: infer it from rewards"},
+      {"throw_on_sim_warning", OptionType::kBool, false,
+       "throw on a MuJoCo warning instead of ending the episode"}};
+}
+
+std::unique_ptr<Env> MakeBoxWorld(BoxTask task, const Options& o) {
+  const std::string id = BoxWorldEnv::IdOf(task);
+  BoxWorldEnv::Config config;
+  config.task = task;
+  WorldDistribution& d = config.distribution;
+  d.floor_size = FloatRange(o, "floor_size");
+  const int64_t n = o.Int("num_boxes");
+  const int64_t n_max = o.Int("num_boxes_max") == -1 ? n : o.Int("num_boxes_max");
+  auto small_int = [&](const char* name, int64_t v) {
+    if (v < -1 || v > kMaxBoxesLimit) {
+      throw ConfigError("env '" + id + "': option '" + name + "' must be in [0, " +
+                        std::to_string(kMaxBoxesLimit) + "], got " + std::to_string(v));
+    }
+    return static_cast<int>(v);
+  };
+  d.num_boxes = {small_int("num_boxes", n), small_int("num_boxes_max", n_max)};
+  d.box_shapes = ParseShapes(id, o.String("box_shapes"));
+  d.box_size = FloatRange(o, "box_size");
+  d.box_mass = FloatRange(o, "box_mass");
+  d.box_friction = FloatRange(o, "box_friction");
+  d.random_colors = o.Bool("random_colors");
+  d.wall_height = o.Float("wall_height");
+  d.agent_radius = o.Float("agent_radius");
+  d.agent_force = o.Float("agent_force");
+  d.agent_torque = o.Float("agent_torque");
+  d.success_radius_ratio = o.Float("success_radius_ratio");
+  d.min_target_distance_ratio = o.Float("min_target_distance_ratio");
+  d.layout_seed = o.Int("layout_seed");
+  const int64_t max_boxes = o.Int("max_boxes");
+  if (max_boxes < 1 || max_boxes > kMaxBoxesLimit) {
+    throw ConfigError("env '" + id + "': option 'max_boxes' must be in [1, " +
+                      std::to_string(kMaxBoxesLimit) + "], got " + std::to_string(max_boxes));
+  }
+  config.max_boxes = static_cast<int>(max_boxes);
+  config.hide_target = o.Bool("hide_target");
+  config.throw_on_sim_warning = o.Bool("throw_on_sim_warning");
+  return std::make_unique<BoxWorldEnv>(config);
+}
+
+// The scripted policy (see boxworld.h).
+class ScriptedPolicy : public Policy {
+ public:
+  explicit ScriptedPolicy(const BoxWorldEnv& env) : env_(env) {}
+
+  void Act(std::span<const float>, std::span<const float>, std::span<float> action) override {
+    const WorldParams& w = env_.world();
+    const mjData* d = env_.data();
+    const mjModel* m = env_.model();
+    const int agent = m->jnt_qposadr[mj_name2id(m, mjOBJ_JOINT, "agent_x")];
+    const int agent_v = m->jnt_dofadr[mj_name2id(m, mjOBJ_JOINT, "agent_x")];
+    const Vec2 p = {d->qpos[agent], d->qpos[agent + 1]};
+    const Vec2 v = {d->qvel[agent_v], d->qvel[agent_v + 1]};
+    Vec2 goal = w.target;
+    const bool complex = env_.config().task == BoxTask::kComplex;
+    for (size_t k = 0; complex && k < w.boxes.size(); ++k) {
+      if (env_.delivered(k)) continue;
+      const int q = m->jnt_qposadr[mj_name2id(m, mjOBJ_JOINT, ("box" + std::to_string(k)).c_str())];
+      goal = PushGoal(w, {d->qpos[q], d->qpos[q + 1]}, FootprintRadius(w.boxes[k]), p);
+      break;
+    }
+    constexpr double kGain = 3.0, kDamping = 0.6;
+    for (int i = 0; i < 2; ++i) {
+      action[i] = static_cast<float>(std::clamp(kGain * (goal[i] - p[i]) - kDamping * v[i], -1.0, 1.0));
+    }
+    action[2] = static_cast<float>(std::clamp(-d->qvel[agent_v + 2], -1.0, 1.0));
+  }
+
+ private:
+  // Where the agent heads to push the box at `b` (footprint radius rho)
+  // toward the target.
+  static Vec2 PushGoal(const WorldParams& w, const Vec2& b, double rho, const Vec2& p) {
+    Vec2 u = {w.target[0] - b[0], w.target[1] - b[1]};
+    const double len = std::max(std::hypot(u[0], u[1]), 1e-9);
+    u = {u[0] / len, u[1] / len};
+    const Vec2 rel = {p[0] - b[0], p[1] - b[1]};
+    const double along = rel[0] * u[0] + rel[1] * u[1];
+    const Vec2 lateral = {rel[0] - along * u[0], rel[1] - along * u[1]};
+    const double lat = std::hypot(lateral[0], lateral[1]);
+    const double contact = rho + w.agent_radius;
+    if (along < -0.6 * contact && lat < 0.35 * rho + 0.02) {
+      // behind the box and on the line: push through it, steering back to
+      // the line
+      return {b[0] + 0.8 * u[0] - 1.5 * lateral[0], b[1] + 0.8 * u[1] - 1.5 * lateral[1]};
+    }
+    if (along > -0.5 * contact && lat < contact + 0.15) {
+      // beside or in front: go round on the agent's side
+      Vec2 n = lat > 1e-6 ? Vec2{lateral[0] / lat, lateral[1] / lat} : Vec2{-u[1], u[0]};
+      return {b[0] + n[0] * (contact + 0.3) - u[0] * 0.5 * contact,
+              b[1] + n[1] * (contact + 0.3) - u[1] * 0.5 * contact};
+    }
+    return {b[0] - u[0] * (contact + 0.08), b[1] - u[1] * (contact + 0.08)};
+  }
+
+  const BoxWorldEnv& env_;
+};
+
+}  // namespace
+
+const BoxWorldEnv* FindBoxWorld(const Env& env) {
+  const Env* e = &env;
+  while (true) {
+    if (const auto* box = dynamic_cast<const BoxWorldEnv*>(e)) return box;
+    const auto* wrapper = dynamic_cast<const Wrapper*>(e);
+    if (wrapper == nullptr) return nullptr;
+    e = &wrapper->inner();
+  }
+}
+
+std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
+  const BoxWorldEnv* box = FindBoxWorld(env);
+  if (box == nullptr) return nullptr;
+  return std::make_unique<ScriptedPolicy>(*box);
+}
+
+}  // namespace boxworld
+
+void RegisterBoxWorldSuite(Registry& registry) {
+  using boxworld::BoxTask;
+  for (const BoxTask task : {BoxTask::kSimple, BoxTask::kComplex}) {
+    const bool simple = task == BoxTask::kSimple;
+    registry.Add(EnvRegistration{
+        boxworld::BoxWorldEnv::IdOf(task), "boxworld",
+        simple ? "Generated walled floors with boxes (MuJoCo); reach the target"
+               : "Generated walled floors with boxes (MuJoCo); push every box to the target",
+        boxworld::BoxWorldOptions(), [task](const Options& o) -> std::unique_ptr<Env> {
+          return boxworld::MakeBoxWorld(task, o);
+        }});
+  }
+}
+
+}  // namespace manyworlds
