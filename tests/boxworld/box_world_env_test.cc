@@ -411,6 +411,11 @@ TEST(BoxWorldEnvTest, RegistryOptionsReachTheGeneratorAndBadOnesAreErrors) {
   EXPECT_NE(error("box-world-simple", {{"floor_size", "nan"}}).find("floor_size"),
             std::string::npos);
   EXPECT_NO_THROW(registry.Make("box-world-simple", {{"num_boxes", 0}}));
+  // valid ranges that leave no room for the target fail at construction
+  EXPECT_NE(error("box-world-complex",
+                  {{"num_boxes", 12}, {"max_boxes", 12}, {"min_target_distance_ratio", 0.4}})
+                .find("could not place the target"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -12,6 +12,9 @@
 namespace manyworlds::boxworld {
 namespace {
 
+// Worlds drawn at construction to catch settings that cannot be satisfied.
+constexpr uint64_t kProbeWorlds = 8;
+
 int JointQpos(const mjModel* m, const std::string& name) {
   const int id = mj_name2id(m, mjOBJ_JOINT, name.c_str());
   if (id < 0) throw sim::MujocoError("box world model: no joint '" + name + "'");
@@ -47,6 +50,13 @@ EnvSpec BoxWorldEnv::MakeSpec(const Config& config) {
                       std::to_string(kMaxBoxesLimit) +
                       "] for the complex task (it pushes boxes), got " +
                       std::to_string(config.distribution.num_boxes[0]));
+  }
+  // settings that validate but cannot be satisfied (too crowded for the
+  // target) fail here rather than at some later reset
+  try {
+    for (uint64_t seed = 0; seed < kProbeWorlds; ++seed) GenerateWorld(config.distribution, seed);
+  } catch (const ConfigError& e) {
+    throw ConfigError("env '" + id + "': " + e.what());
   }
   const float inf = std::numeric_limits<float>::infinity();
   EnvSpec spec;

@@ -71,7 +71,8 @@ class BoxWorldEnv : public Env {
   };
 
   // Throws ConfigError for bad options (distribution ranges, max_boxes
-  // below the largest num_boxes, a complex task without boxes).
+  // below the largest num_boxes, a complex task without boxes, or ranges
+  // that validate but leave no room for a target in one of 8 probe worlds).
   explicit BoxWorldEnv(const Config& config);
 
   static const char* IdOf(BoxTask task);

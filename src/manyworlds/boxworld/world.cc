@@ -417,30 +417,40 @@ void WorldDistribution::Validate() const {
 }
 
 WorldParams WorldDistribution::Sample(Rng& rng) const {
-  Rng fixed_layout(layout_seed >= 0 ? static_cast<uint64_t>(layout_seed) : 0);
-  Rng& layout = layout_seed >= 0 ? fixed_layout : rng;
-  WorldParams w;
-  w.floor_size = layout.Uniform(floor_size[0], floor_size[1]);
-  w.wall_height = wall_height;
-  w.agent_radius = agent_radius;
-  w.agent_force = agent_force;
-  w.agent_torque = agent_torque;
-  w.success_radius = success_radius_ratio * w.floor_size;
-  w.min_target_distance = min_target_distance_ratio * w.floor_size;
-  const int n = num_boxes[0] + static_cast<int>(layout.UniformInt(
-                                   static_cast<uint64_t>(num_boxes[1] - num_boxes[0] + 1)));
-  for (int i = 0; i < n; ++i) {
-    BoxParams b;
-    b.shape = box_shapes[layout.UniformInt(box_shapes.size())];
-    b.size = layout.Uniform(box_size[0], box_size[1]);
-    b.mass = layout.Uniform(box_mass[0], box_mass[1]);
-    b.friction = layout.Uniform(box_friction[0], box_friction[1]);
-    b.rgba = random_colors ? kPalette[layout.UniformInt(std::size(kPalette))] : ShapeColor(b.shape);
-    w.boxes.push_back(b);
+  // A crowded layout may leave no spot for the target: draw a new layout
+  // (unless it is fixed) a few times before giving up.
+  constexpr int kLayoutAttempts = 20;
+  for (int attempt = 0;; ++attempt) {
+    Rng fixed_layout(layout_seed >= 0 ? static_cast<uint64_t>(layout_seed) : 0);
+    Rng& layout = layout_seed >= 0 ? fixed_layout : rng;
+    WorldParams w;
+    w.floor_size = layout.Uniform(floor_size[0], floor_size[1]);
+    w.wall_height = wall_height;
+    w.agent_radius = agent_radius;
+    w.agent_force = agent_force;
+    w.agent_torque = agent_torque;
+    w.success_radius = success_radius_ratio * w.floor_size;
+    w.min_target_distance = min_target_distance_ratio * w.floor_size;
+    const int n = num_boxes[0] + static_cast<int>(layout.UniformInt(
+                                     static_cast<uint64_t>(num_boxes[1] - num_boxes[0] + 1)));
+    for (int i = 0; i < n; ++i) {
+      BoxParams b;
+      b.shape = box_shapes[layout.UniformInt(box_shapes.size())];
+      b.size = layout.Uniform(box_size[0], box_size[1]);
+      b.mass = layout.Uniform(box_mass[0], box_mass[1]);
+      b.friction = layout.Uniform(box_friction[0], box_friction[1]);
+      b.rgba =
+          random_colors ? kPalette[layout.UniformInt(std::size(kPalette))] : ShapeColor(b.shape);
+      w.boxes.push_back(b);
+    }
+    PlaceObjects(w, layout);
+    try {
+      PlaceTarget(w, rng);
+      return w;
+    } catch (const ConfigError&) {
+      if (layout_seed >= 0 || attempt + 1 == kLayoutAttempts) throw;
+    }
   }
-  PlaceObjects(w, layout);
-  PlaceTarget(w, rng);
-  return w;
 }
 
 WorldParams GenerateWorld(const WorldDistribution& d, uint64_t seed) {

@@ -156,7 +156,10 @@ struct WorldDistribution {
   // fit on the smallest floor.
   void Validate() const;
   // Draws one world (layout from layout_seed if set, else from rng; target
-  // from rng).
+  // from rng). A layout that leaves no room for the target (crowded floors:
+  // every box keeps min_target_distance from it too) is drawn again, up to
+  // 20 times, which favours fewer boxes on crowded settings; then, or at
+  // once for a fixed layout, ConfigError.
   WorldParams Sample(Rng& rng) const;
 };
 

@@ -43,9 +43,9 @@ sim::MjcfBuilder WorldMjcf(const WorldParams& w) {
 
   const double half = w.floor_size / 2;
   b.AddTexture({.name = "sky", .type = "skybox", .builtin = "gradient", .rgb1 = {0.6, 0.7, 0.8},
-                .rgb2 = {0.1, 0.12, 0.15}, .width = 256, .height = 256});
+                .rgb2 = {0.1, 0.12, 0.15}, .width = 32, .height = 32});
   b.AddTexture({.name = "grid", .builtin = "checker", .rgb1 = {0.32, 0.34, 0.37},
-                .rgb2 = {0.26, 0.28, 0.31}, .width = 256, .height = 256, .mark = "edge",
+                .rgb2 = {0.26, 0.28, 0.31}, .width = 64, .height = 64, .mark = "edge",
                 .markrgb = sim::Vec3{0.4, 0.42, 0.45}});
   // texrepeat counts checker tiles (2 squares each) per floor: 1 m squares
   b.AddMaterial({.name = "floor", .texture = "grid",
