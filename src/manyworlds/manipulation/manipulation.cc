@@ -6,6 +6,8 @@
 #include "manyworlds/manipulation/basketball.h"
 #include "manyworlds/manipulation/benchmark.h"
 #include "manyworlds/manipulation/button_press_topdown.h"
+#include "manyworlds/manipulation/coffee/coffee_button.h"
+#include "manyworlds/manipulation/coffee/coffee_mug.h"
 #include "manyworlds/manipulation/door_close.h"
 #include "manyworlds/manipulation/door_open.h"
 #include "manyworlds/manipulation/drawer_close.h"
@@ -88,6 +90,9 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<HandlePressSide, HandlePressScriptedPolicy>(),
       Entry<HandlePull, HandlePullScriptedPolicy>(),
       Entry<HandlePullSide, HandlePullSideScriptedPolicy>(),
+      Entry<CoffeeButton, CoffeeButtonScriptedPolicy>(),
+      Entry<CoffeePush, CoffeeMugScriptedPolicy>(),
+      Entry<CoffeePull, CoffeeMugScriptedPolicy>(),
   };
   return tasks;
 }

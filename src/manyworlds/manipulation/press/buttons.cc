@@ -69,6 +69,10 @@ SawyerTaskConfig ButtonPress::Config() {
 ButtonPress::ButtonPress(SawyerOptions options) : FrontButtonTask(Config(), options) {}
 
 RewardTerms ButtonPress::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  return ButtonPressReward(s);
+}
+
+RewardTerms ButtonPressReward(const SawyerState& s) {
   const FrontTerms t = Front(s);
   const double near = LongTailTolerance(t.tcp_to_obj, 0.0, 0.05, t.tcp_to_obj_init);
   RewardTerms terms;

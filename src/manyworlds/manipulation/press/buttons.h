@@ -57,6 +57,10 @@ class ButtonPress : public FrontButtonTask {
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
 };
 
+// button-press's reward and info (above), from the record: also
+// coffee-button's, whose press margin (obj_to_target_init) is v3's max_dist.
+RewardTerms ButtonPressReward(const SawyerState& state);
+
 class ButtonPressWall : public FrontButtonTask {
  public:
   explicit ButtonPressWall(SawyerOptions options = {});

@@ -1,0 +1,52 @@
+#include "manyworlds/manipulation/coffee/coffee_button.h"
+
+#include <utility>
+
+#include "manyworlds/manipulation/coffee/coffee.h"
+#include "manyworlds/sim/ids.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr Vec3 kGoalOffset{0.0, -0.19, 0.3};
+constexpr double kMaxDist = 0.03;  // v3's max_dist, the button's travel
+
+FixtureSpec Fixture() { return {"coffee_machine", {}, "button_slide", 0.0, kGoalOffset}; }
+
+}  // namespace
+
+SawyerTaskConfig CoffeeButton::Config() {
+  SawyerTaskConfig config;
+  config.id = "coffee-button";
+  config.description = "Sawyer arm: push the coffee machine's button";
+  config.xml_file = "coffee_button.xml";
+  config.hand_init = {0.0, 0.4, 0.2};
+  config.obj_low = {-0.1, 0.8, -0.001};
+  config.obj_high = {0.1, 0.9, 0.001};
+  config.obj_quat = QuatLayout::kWxyz;
+  config.obj_quat_body = "coffee_machine";
+  UseGoalOffset(kGoalOffset, config);
+  return config;
+}
+
+CoffeeButton::CoffeeButton(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {
+  const sim::IdLookup ids(model(), config().xml_file);
+  mug_qpos_ = ids.QposAddress("mug_free");
+  mug_dof_ = ids.DofAddress("mug_free");
+}
+
+void CoffeeButton::PlaceObjects(mjModel* m, mjData* d) {
+  ArticulatedTask::PlaceObjects(m, d);
+  coffee::PlaceMug(d, mug_qpos_, mug_dof_, obj_pos()[0], obj_pos()[1] - coffee::kMugBeforeMachine);
+}
+
+void CoffeeButton::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.obj_to_target_init = kMaxDist;
+}
+
+RewardTerms CoffeeButton::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  return ButtonPressReward(s);
+}
+
+}  // namespace manyworlds::manipulation
