@@ -71,6 +71,9 @@ def sawyer_reward(env: "Env", state: Dict[str, Any], action: npt.NDArray[np.floa
 def sawyer_state(env: "Env") -> Dict[str, Any]:
     """The state record of manipulation env `env` after its last reset or step."""
 
+def benchmark_splits() -> Dict[str, Dict[str, List[str]]]:
+    """{id: {"train": [...], "test": [...]}} of mt10, mt25, mt50, ml10, ml25, ml45 in v3's order (only with MuJoCo)."""
+
 class Rng:
     """manyworlds' portable random generator (xoshiro256**)."""
 

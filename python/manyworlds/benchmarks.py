@@ -1,6 +1,7 @@
 """Meta-World-shaped benchmark objects over manyworlds' manipulation suite.
 
-For people moving a Meta-World script over: ``MT1``, ``MT10``, ``ML1`` and ``ML10`` have
+For people moving a Meta-World script over: ``MT1``, ``MT10``, ``MT25``, ``MT50``, ``ML1``,
+``ML10``, ``ML25`` and ``ML45`` have
 ``train_classes`` and ``test_classes`` (dicts from task name to an env class that takes no
 required arguments) and ``train_tasks`` and ``test_tasks`` (lists of :class:`Task` with
 ``env_name`` and ``data``), and the envs have ``set_task(task)``, so::
@@ -22,7 +23,7 @@ required arguments) and ``train_tasks`` and ``test_tasks`` (lists of :class:`Tas
 
 The envs are single manyworlds tasks whose observation is Meta-World's flat 39-value vector
 (goal zeroed in the ML benchmarks); the variations are the ones of manyworlds' own benchmark
-envs (``mt10``, ``ml10``, ``mt1``, ``ml1``) with ``benchmark_seed = seed``, 50 per task. Task
+envs (``mt10``, ``ml10``, ``mt1``, ``ml1``, ...) with ``benchmark_seed = seed``, 50 per task. Task
 names are manyworlds ids (``"pick-place"``); MT1/ML1 also accept Meta-World's versioned names
 (``"pick-place-v3"``) and then key their dicts by the name given.
 """
@@ -36,7 +37,11 @@ from typing import Any, Dict, List, NamedTuple, Optional, Type
 from manyworlds import _core
 from manyworlds.env import ManyworldsEnv
 
-__all__ = ["Task", "Benchmark", "MT1", "MT10", "ML1", "ML10", "SawyerEnv", "MT10_TASKS", "ML10_TRAIN_TASKS", "ML10_TEST_TASKS"]
+__all__ = [
+    "Task", "Benchmark", "SawyerEnv", "MT1", "MT10", "MT25", "MT50", "ML1", "ML10", "ML25", "ML45",
+    "MT10_TASKS", "MT25_TASKS", "MT50_TASKS", "ML10_TRAIN_TASKS", "ML10_TEST_TASKS",
+    "ML25_TRAIN_TASKS", "ML25_TEST_TASKS", "ML45_TRAIN_TASKS", "ML45_TEST_TASKS",
+]
 
 
 class Task(NamedTuple):
@@ -148,31 +153,79 @@ class ML1(Benchmark):
         self.test_classes, self.test_tasks = self._variations("ml1", {**base, "split": "test"}, names, False)
 
 
-class MT10(Benchmark):
-    """The ten MT10 tasks, 50 variations each, goal visible; no test set."""
+class _PublishedMT(Benchmark):
+    """A published multi-task benchmark: its tasks, 50 variations each, goal visible; no test set."""
+
+    BENCHMARK_ID = ""
 
     def __init__(self, seed: Optional[int] = None) -> None:
         super().__init__()
         options = {"benchmark_seed": int(seed or 0)}
-        self.train_classes, self.train_tasks = self._variations("mt10", options, {}, True)
+        self.train_classes, self.train_tasks = self._variations(self.BENCHMARK_ID, options, {}, True)
 
 
-class ML10(Benchmark):
-    """Ten train tasks and five held-out test tasks, 50 variations each, goal hidden."""
+class _PublishedML(Benchmark):
+    """A published meta-learning benchmark: train and held-out test tasks, 50 variations each, goal hidden."""
+
+    BENCHMARK_ID = ""
 
     def __init__(self, seed: Optional[int] = None) -> None:
         super().__init__()
         base = {"benchmark_seed": int(seed or 0)}
-        self.train_classes, self.train_tasks = self._variations("ml10", {**base, "split": "train"}, {}, False)
-        self.test_classes, self.test_tasks = self._variations("ml10", {**base, "split": "test"}, {}, False)
+        self.train_classes, self.train_tasks = self._variations(self.BENCHMARK_ID, {**base, "split": "train"}, {}, False)
+        self.test_classes, self.test_tasks = self._variations(self.BENCHMARK_ID, {**base, "split": "test"}, {}, False)
 
 
-MT10_TASKS = [
-    "reach", "push", "pick-place", "door-open", "drawer-open",
-    "drawer-close", "button-press-topdown", "peg-insert-side", "window-open", "window-close",
-]
-ML10_TRAIN_TASKS = [
-    "reach", "push", "pick-place", "door-open", "drawer-close",
-    "button-press-topdown", "peg-insert-side", "window-open", "sweep", "basketball",
-]
-ML10_TEST_TASKS = ["drawer-open", "door-close", "shelf-place", "sweep-into", "lever-pull"]
+class MT10(_PublishedMT):
+    """The ten MT10 tasks, 50 variations each, goal visible; no test set."""
+
+    BENCHMARK_ID = "mt10"
+
+
+class MT25(_PublishedMT):
+    """MT10 and 15 more tasks (Meta-World v3's MT25), 50 variations each, goal visible."""
+
+    BENCHMARK_ID = "mt25"
+
+
+class MT50(_PublishedMT):
+    """All 50 tasks in Meta-World v3's order, 50 variations each, goal visible."""
+
+    BENCHMARK_ID = "mt50"
+
+
+class ML10(_PublishedML):
+    """Ten train tasks and five held-out test tasks, 50 variations each, goal hidden."""
+
+    BENCHMARK_ID = "ml10"
+
+
+class ML25(_PublishedML):
+    """MT25's tasks for training and five test tasks (v3's ML25: basketball is on both sides)."""
+
+    BENCHMARK_ID = "ml25"
+
+
+class ML45(_PublishedML):
+    """45 train tasks and five held-out test tasks, 50 variations each, goal hidden."""
+
+    BENCHMARK_ID = "ml45"
+
+
+# {id: {"train": [...], "test": [...]}} from the C++ side (empty in a build without MuJoCo).
+_SPLITS: Dict[str, Dict[str, List[str]]] = _core.benchmark_splits() if hasattr(_core, "benchmark_splits") else {}
+
+
+def _splits(bench_id: str) -> Dict[str, List[str]]:
+    return _SPLITS.get(bench_id, {"train": [], "test": []})
+
+
+MT10_TASKS = _splits("mt10")["train"]
+MT25_TASKS = _splits("mt25")["train"]
+MT50_TASKS = _splits("mt50")["train"]
+ML10_TRAIN_TASKS = _splits("ml10")["train"]
+ML10_TEST_TASKS = _splits("ml10")["test"]
+ML25_TRAIN_TASKS = _splits("ml25")["train"]
+ML25_TEST_TASKS = _splits("ml25")["test"]
+ML45_TRAIN_TASKS = _splits("ml45")["train"]
+ML45_TEST_TASKS = _splits("ml45")["test"]

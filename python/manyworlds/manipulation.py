@@ -19,15 +19,16 @@ import numpy as np
 
 from manyworlds import _core
 
-_envs: Dict[str, "_core.Env"] = {}
+_envs: Dict[tuple, "_core.Env"] = {}
 
 
-def _env(task: str) -> "_core.Env":
+def _env(task: str, reward_version: str = "v2") -> "_core.Env":
     if not getattr(_core, "has_mujoco", False):
         raise _core.Error("this build of manyworlds has no MuJoCo suites")
-    if task not in _envs:
-        _envs[task] = _core.Env(task)
-    return _envs[task]
+    key = (task, reward_version)
+    if key not in _envs:
+        _envs[key] = _core.Env(task, {"reward_version": reward_version})
+    return _envs[key]
 
 
 def state_fields() -> List[str]:
@@ -35,10 +36,13 @@ def state_fields() -> List[str]:
     return list(_core.sawyer_state_fields)
 
 
-def reward(task: str, state: Dict[str, object], action: Sequence[float]) -> Dict[str, float]:
+def reward(task: str, state: Dict[str, object], action: Sequence[float],
+           reward_version: str = "v2") -> Dict[str, float]:
     """Reward, success and the info fields of manipulation task ``task`` for ``state`` and a
-    4-value ``action``. Unknown or missing keys raise ConfigError naming them."""
-    return _core.sawyer_reward(_env(task), dict(state), np.asarray(action, dtype=np.float32))
+    4-value ``action``, under Meta-World's ``reward_version`` ("v2", v3's default, or "v1" where
+    the task has it). Unknown or missing keys raise ConfigError naming them."""
+    return _core.sawyer_reward(_env(task, reward_version), dict(state),
+                               np.asarray(action, dtype=np.float32))
 
 
 def state(task: str, seed: int = 0) -> Dict[str, object]:

@@ -32,6 +32,7 @@ void CheckSignals();
 void BindEnv(py::module_& m);
 void BindExecutor(py::module_& m);
 void BindSawyerReward(py::module_& m);  // no-op without MuJoCo
+void BindBenchmarks(py::module_& m);     // no-op without MuJoCo
 
 }  // namespace manyworlds::python
 

@@ -103,4 +103,5 @@ PYBIND11_MODULE(_core, m) {
   BindEnv(m);
   BindExecutor(m);
   BindSawyerReward(m);
+  BindBenchmarks(m);
 }

@@ -78,6 +78,9 @@ SawyerState ReadRecord(const py::dict& record) {
   s.obj_quat = ReadVec4(record, "obj_quat");
   s.obj2 = ReadVec3(record, "obj2");
   s.obj2_init = ReadVec3(record, "obj2_init");
+  s.v1_max_dist = record["v1_max_dist"].cast<double>();
+  s.v1_obj_height = record["v1_obj_height"].cast<double>();
+  s.v1_height_target = record["v1_height_target"].cast<double>();
   return s;
 }
 
@@ -128,6 +131,9 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["obj_quat"] = std::vector<double>(s.obj_quat.begin(), s.obj_quat.end());
   out["obj2"] = vec(s.obj2);
   out["obj2_init"] = vec(s.obj2_init);
+  out["v1_max_dist"] = s.v1_max_dist;
+  out["v1_obj_height"] = s.v1_obj_height;
+  out["v1_height_target"] = s.v1_height_target;
   return out;
 }
 #endif

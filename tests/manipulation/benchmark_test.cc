@@ -83,7 +83,8 @@ TEST_F(BenchmarkTest, GoalVisibleInMtHiddenInMl) {
   auto mt = Make("mt1", {{"task", "reach"}});
   mt->ResetTaskState();
   Observation o = mt->Reset();
-  ASSERT_EQ(o.env_obs.size(), 39u + 1u);  // one-hot of one task appended
+  ASSERT_EQ(o.env_obs.size(), 39u);  // no one-hot by default, as v3
+  ASSERT_EQ(o.task_obs.size(), 1u);
   EXPECT_NE(o.env_obs[kObsGoal] + o.env_obs[kObsGoal + 1], 0.0f);
   auto ml = Make("ml1", {{"task", "reach"}});
   ml->ResetTaskState();
@@ -93,8 +94,8 @@ TEST_F(BenchmarkTest, GoalVisibleInMtHiddenInMl) {
   for (int i = 0; i < 3; ++i) EXPECT_EQ(o.env_obs[kObsGoal + i], 0.0f);
 }
 
-TEST_F(BenchmarkTest, Mt10AppendsTheOneHotTaskId) {
-  auto env = Make("mt10");
+TEST_F(BenchmarkTest, Mt10AppendsTheOneHotTaskIdWhenAsked) {
+  auto env = Make("mt10", {{"task_id_in_obs", true}});
   const Benchmark& bench = AsBenchmark(*env);
   ASSERT_EQ(env->spec().env_obs_space.flat_size(), 49);
   for (int task = 0; task < bench.num_tasks(); ++task) {
@@ -105,8 +106,67 @@ TEST_F(BenchmarkTest, Mt10AppendsTheOneHotTaskId) {
     for (int j = 0; j < 10; ++j) EXPECT_EQ(o.env_obs[39 + j], j == task ? 1.0f : 0.0f);
     EXPECT_TRUE(env->spec().env_obs_space.Contains(o.env_obs));
   }
-  auto no_one_hot = Make("mt10", {{"task_id_in_obs", false}});
+  auto no_one_hot = Make("mt10");
   EXPECT_EQ(no_one_hot->spec().env_obs_space.flat_size(), 39);
+}
+
+TEST_F(BenchmarkTest, PublishedSplitsAreV3sListsInV3sOrder) {
+  // Sizes, disjointness and the order facts v3's env_dict.py fixes (one-hot index = position).
+  const std::vector<std::string> all = Mt50Tasks();
+  ASSERT_EQ(all.size(), 50u);
+  EXPECT_EQ(std::set<std::string>(all.begin(), all.end()).size(), 50u);
+  EXPECT_EQ(all.front(), "assembly");
+  EXPECT_EQ(all[17], "hand-insert");  // v3 lists it before drawer-close
+  EXPECT_EQ(all.back(), "window-close");
+  const BenchmarkSplits& mt25 = PublishedBenchmark("mt25");
+  ASSERT_EQ(mt25.train.size(), 25u);
+  const std::vector<std::string> mt10 = Mt10Tasks();
+  EXPECT_EQ(std::vector<std::string>(mt25.train.begin(), mt25.train.begin() + 10), mt10);
+  EXPECT_EQ(mt25.train[10], "coffee-pull");
+  EXPECT_EQ(mt25.train[24], "dial-turn");
+  const BenchmarkSplits& ml45 = PublishedBenchmark("ml45");
+  ASSERT_EQ(ml45.train.size(), 45u);
+  ASSERT_EQ(ml45.test.size(), 5u);
+  std::set<std::string> ml45_all(ml45.train.begin(), ml45.train.end());
+  ml45_all.insert(ml45.test.begin(), ml45.test.end());
+  EXPECT_EQ(ml45_all, std::set<std::string>(all.begin(), all.end()));
+  const BenchmarkSplits& ml25 = PublishedBenchmark("ml25");
+  EXPECT_EQ(ml25.train, mt25.train);
+  ASSERT_EQ(ml25.test.size(), 5u);
+  // v3's ML25 has basketball on both sides; every other test task is held out.
+  for (const auto& t : ml25.test) {
+    EXPECT_EQ(std::count(ml25.train.begin(), ml25.train.end(), t), t == "basketball" ? 1 : 0) << t;
+  }
+  for (const BenchmarkSplits& b : PublishedBenchmarks()) {
+    for (const auto& t : b.train) EXPECT_EQ(std::count(all.begin(), all.end(), t), 1) << b.id;
+    for (const auto& t : b.test) EXPECT_EQ(std::count(all.begin(), all.end(), t), 1) << b.id;
+  }
+  EXPECT_THROW(PublishedBenchmark("mt20"), ConfigError);
+}
+
+TEST_F(BenchmarkTest, EveryPublishedBenchmarkBuildsWithItsTasksInOrder) {
+  for (const BenchmarkSplits& b : PublishedBenchmarks()) {
+    for (const char* split : {"train", "test"}) {
+      if (!b.meta && std::string(split) == "test") continue;
+      nlohmann::json options = {{"num_variations", 2}};
+      if (b.meta) options["split"] = split;
+      auto env = Make(b.id, options);
+      const Benchmark& bench = AsBenchmark(*env);
+      EXPECT_EQ(bench.config().tasks, std::string(split) == "train" ? b.train : b.test) << b.id;
+      EXPECT_EQ(bench.config().meta, b.meta) << b.id;
+      EXPECT_EQ(env->spec().env_obs_space.flat_size(), 39) << b.id;
+      const std::vector<TaskGroup> groups = env->EvaluationTasks();
+      ASSERT_EQ(groups.size(), bench.config().tasks.size()) << b.id;
+      env->SetTaskState(bench.VariationState(bench.num_tasks() - 1, 1));
+      const Observation o = env->Reset();
+      if (b.meta) {
+        EXPECT_TRUE(o.task_obs.empty()) << b.id;
+      } else {
+        ASSERT_EQ(o.task_obs.size(), 1u) << b.id;
+        EXPECT_EQ(o.task_obs[0], static_cast<float>(bench.num_tasks() - 1)) << b.id;
+      }
+    }
+  }
 }
 
 TEST_F(BenchmarkTest, TaskStatesRunOnAnotherInstanceAndAreValidated) {

@@ -32,6 +32,20 @@ OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init",
                       "button-press-topdown-wall": "_obj_to_target_init"}
 
 
+# Reward version v1: the attribute holding each task's normaliser (v3 sets it at reset).
+V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "maxPlacingDist",
+               "door-open": "maxPullDist", "drawer-open": "maxDist", "drawer-close": "maxDist",
+               "button-press-topdown": "maxDist", "peg-insert-side": "maxPlacingDist",
+               "window-open": "maxPullDist", "window-close": "maxPullDist"}
+
+
+def v1_fields(env, task):
+    """The v1 reward's reset-time quantities (zeros where the task's v1 reads none)."""
+    value = lambda name: float(np.asarray(getattr(env, name, 0.0), dtype=np.float64))
+    return {"v1_max_dist": value(V1_MAX_DIST[task]) if task in V1_MAX_DIST else 0.0,
+            "v1_obj_height": value("objHeight"), "v1_height_target": value("heightTarget")}
+
+
 def state_record(env, obs, task=None):
     """manyworlds' SawyerState fields, read the way Meta-World v3's reward code reads them."""
     vec = lambda v: [float(x) for x in np.asarray(v, dtype=np.float64)]
@@ -61,6 +75,7 @@ def state_record(env, obs, task=None):
         # tool-use tasks: the second object (obs[11:14]) and the thermos's base at reset
         "obj2": vec(obs[11:14]),
         "obj2_init": vec(env.obj_init_pos) if task in ("stick-push", "stick-pull") else [0.0] * 3,
+        **v1_fields(env, task),
     }
 
 

@@ -76,23 +76,91 @@ EnvSpec MakeSpec(const BenchmarkConfig& config,
 
 }  // namespace
 
-std::vector<std::string> Mt10Tasks() {
-  return {"reach",       "push",         "pick-place",           "door-open",
-          "drawer-open", "drawer-close", "button-press-topdown", "peg-insert-side",
-          "window-open", "window-close"};
+const std::vector<BenchmarkSplits>& PublishedBenchmarks() {
+  // Meta-World v3's env_dict.py: MT10_V3, MT25_V3, MT50_V3 (= ALL_V3_ENVIRONMENTS),
+  // ML10_V3, ML25_V3, ML45_V3, in their order.
+  static const std::vector<BenchmarkSplits> benchmarks = [] {
+    const std::vector<std::string> mt10 = {
+        "reach",       "push",         "pick-place",           "door-open",
+        "drawer-open", "drawer-close", "button-press-topdown", "peg-insert-side",
+        "window-open", "window-close"};
+    std::vector<std::string> mt25 = mt10;
+    for (const char* task :
+         {"coffee-pull", "pick-out-of-hole", "disassemble", "pick-place-wall", "basketball",
+          "stick-pull", "button-press-wall", "faucet-open", "door-lock", "lever-pull",
+          "sweep-into", "faucet-close", "coffee-button", "button-press-topdown-wall",
+          "dial-turn"}) {
+      mt25.emplace_back(task);
+    }
+    const std::vector<std::string> all = {
+        "assembly",         "basketball",          "bin-picking",
+        "box-close",        "button-press-topdown", "button-press-topdown-wall",
+        "button-press",     "button-press-wall",   "coffee-button",
+        "coffee-pull",      "coffee-push",         "dial-turn",
+        "disassemble",      "door-close",          "door-lock",
+        "door-open",        "door-unlock",         "hand-insert",
+        "drawer-close",     "drawer-open",         "faucet-open",
+        "faucet-close",     "hammer",              "handle-press-side",
+        "handle-press",     "handle-pull-side",    "handle-pull",
+        "lever-pull",       "pick-place-wall",     "pick-out-of-hole",
+        "pick-place",       "plate-slide",         "plate-slide-side",
+        "plate-slide-back", "plate-slide-back-side", "peg-insert-side",
+        "peg-unplug-side",  "soccer",              "stick-push",
+        "stick-pull",       "push",                "push-wall",
+        "push-back",        "reach",               "reach-wall",
+        "shelf-place",      "sweep-into",          "sweep",
+        "window-open",      "window-close"};
+    const std::vector<std::string> ml45_test = {"bin-picking", "box-close", "hand-insert",
+                                                "door-lock", "door-unlock"};
+    // ML45_V3's train list is ALL_V3_ENVIRONMENTS without the test tasks, except that
+    // push-back comes before pick-place and push-wall before push (v3's own order).
+    const std::vector<std::string> ml45_train = {
+        "assembly",          "basketball",        "button-press-topdown",
+        "button-press-topdown-wall", "button-press", "button-press-wall",
+        "coffee-button",     "coffee-pull",       "coffee-push",
+        "dial-turn",         "disassemble",       "door-close",
+        "door-open",         "drawer-close",      "drawer-open",
+        "faucet-open",       "faucet-close",      "hammer",
+        "handle-press-side", "handle-press",      "handle-pull-side",
+        "handle-pull",       "lever-pull",        "pick-place-wall",
+        "pick-out-of-hole",  "push-back",         "pick-place",
+        "plate-slide",       "plate-slide-side",  "plate-slide-back",
+        "plate-slide-back-side", "peg-insert-side", "peg-unplug-side",
+        "soccer",            "stick-push",        "stick-pull",
+        "push-wall",         "push",              "reach-wall",
+        "reach",             "shelf-place",       "sweep-into",
+        "sweep",             "window-open",       "window-close"};
+    return std::vector<BenchmarkSplits>{
+        {"mt10", "MT10: 10 tasks x 50 variations, goal visible", false, mt10, {}},
+        {"mt25", "MT25: MT10 and 15 more tasks x 50 variations, goal visible", false, mt25, {}},
+        {"mt50", "MT50: all 50 tasks x 50 variations, goal visible", false, all, {}},
+        {"ml10", "ML10: 10 train tasks, 5 held-out test tasks, goal hidden", true,
+         {"reach", "push", "pick-place", "door-open", "drawer-close", "button-press-topdown",
+          "peg-insert-side", "window-open", "sweep", "basketball"},
+         {"drawer-open", "door-close", "shelf-place", "sweep-into", "lever-pull"}},
+        // v3's ML25 lists basketball among both its train and its test tasks; kept as v3
+        // has it (docs/fidelity.md).
+        {"ml25", "ML25: MT25's tasks for training, 5 test tasks, goal hidden", true, mt25,
+         {"basketball", "door-close", "shelf-place", "sweep", "button-press"}},
+        {"ml45", "ML45: 45 train tasks, 5 held-out test tasks, goal hidden", true, ml45_train,
+         ml45_test},
+    };
+  }();
+  return benchmarks;
 }
 
-std::vector<std::string> Ml10TrainTasks() {
-  return {"reach",        "push",
-          "pick-place",   "door-open",
-          "drawer-close", "button-press-topdown",
-          "peg-insert-side", "window-open",
-          "sweep",        "basketball"};
+const BenchmarkSplits& PublishedBenchmark(const std::string& id) {
+  for (const BenchmarkSplits& b : PublishedBenchmarks()) {
+    if (b.id == id) return b;
+  }
+  throw ConfigError("unknown benchmark '" + id +
+                    "': allowed are mt10, mt25, mt50, ml10, ml25, ml45");
 }
 
-std::vector<std::string> Ml10TestTasks() {
-  return {"drawer-open", "door-close", "shelf-place", "sweep-into", "lever-pull"};
-}
+std::vector<std::string> Mt50Tasks() { return PublishedBenchmark("mt50").train; }
+std::vector<std::string> Mt10Tasks() { return PublishedBenchmark("mt10").train; }
+std::vector<std::string> Ml10TrainTasks() { return PublishedBenchmark("ml10").train; }
+std::vector<std::string> Ml10TestTasks() { return PublishedBenchmark("ml10").test; }
 
 Benchmark::Benchmark(BenchmarkConfig config)
     : Benchmark(config, MakeMembers(config)) {}
@@ -285,8 +353,9 @@ void RegisterBenchmarks(Registry& registry) {
                         "seed of the task variations (train split; test uses seed + 1)"};
   const OptionSpec variations{"num_variations", OptionType::kInt, 50,
                               "variations (object and goal positions) per task"};
-  const OptionSpec one_hot{"task_id_in_obs", OptionType::kBool, true,
-                           "append the one-hot task id to the observation (MTRL's MT-SAC input)"};
+  const OptionSpec one_hot{"task_id_in_obs", OptionType::kBool, false,
+                           "append the one-hot task id to the observation (v3's use_one_hot; "
+                           "the task observation has the id either way)"};
   const OptionSpec split{"split", OptionType::kString, "train", "which tasks / variations",
                          {"train", "test"}};
   const OptionSpec task{"task", OptionType::kString, "reach", "the task", task_ids};
@@ -306,22 +375,22 @@ void RegisterBenchmarks(Registry& registry) {
   auto split_of = [](const Options& options) {
     return options.String("split") == "test" ? BenchmarkSplit::kTest : BenchmarkSplit::kTrain;
   };
-  registry.Add({"mt10", "benchmark",
-                "MT10: 10 tasks x 50 variations, goal visible, one-hot task id",
-                {seed, variations, one_hot},
-                [make](const Options& options) {
-                  return make({"mt10", Mt10Tasks(), false, BenchmarkSplit::kTrain}, options);
-                }});
-  registry.Add({"ml10", "benchmark",
-                "ML10: 10 train tasks, 5 held-out test tasks, goal hidden",
-                {seed, variations, split},
-                [make, split_of](const Options& options) {
-                  const BenchmarkSplit s = split_of(options);
-                  return make({"ml10", s == BenchmarkSplit::kTrain ? Ml10TrainTasks()
-                                                                   : Ml10TestTasks(),
-                               true, s},
-                              options);
-                }});
+  for (const BenchmarkSplits& b : PublishedBenchmarks()) {
+    if (b.meta) {
+      registry.Add({b.id, "benchmark", b.description, {seed, variations, split},
+                    [make, split_of, &b](const Options& options) {
+                      const BenchmarkSplit s = split_of(options);
+                      return make({b.id, s == BenchmarkSplit::kTrain ? b.train : b.test, true, s},
+                                  options);
+                    }});
+    } else {
+      registry.Add({b.id, "benchmark", b.description + ", task id as task observation",
+                    {seed, variations, one_hot},
+                    [make, &b](const Options& options) {
+                      return make({b.id, b.train, false, BenchmarkSplit::kTrain}, options);
+                    }});
+    }
+  }
   registry.Add({"mt1", "benchmark", "MT1: one task x 50 variations, goal visible",
                 {task, seed, variations, one_hot},
                 [make](const Options& options) {

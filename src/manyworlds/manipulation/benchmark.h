@@ -1,5 +1,6 @@
-// Meta-World-style benchmarks over the Sawyer tasks: MT1, ML1, MT10, ML10
-// (metaworld.md §1.2 for the splits, §2.5–2.6 for the variations).
+// Meta-World-style benchmarks over the Sawyer tasks: MT1, MT10, MT25, MT50,
+// ML1, ML10, ML25, ML45 (metaworld.md §1.2 for the splits, §2.5–2.6 for the
+// variations).
 //
 // A benchmark is itself a multi-task env. Its tasks are pairs (task,
 // variation): every task has `num_variations` (50) variations (object and
@@ -7,7 +8,8 @@
 // nothing else. The train split draws from the seed, the test split from
 // seed + 1, so ML1's test variations differ from its train ones. A task's
 // variations depend only on the seed and the task's name, so push has the
-// same 50 train variations in MT1, MT10 and ML10.
+// same 50 train variations in MT1, MT10 and ML10. (In v3 a task's goals
+// depend on its position in the benchmark's list; here they do not.)
 //
 // Task state (self-contained: the member state is embedded and checked):
 //   {"env": "mt10", "params": {"task": "push", "variation": 7,
@@ -18,9 +20,10 @@
 //
 // Observation: the member's 39 values (the union of the members' bounds).
 // MT benchmarks show the goal and give the task index as task observation
-// (Discrete(num_tasks)); the registry appends it to the observation as a
-// one-hot vector (AppendTaskOneHot). ML benchmarks hide the goal and have no
-// task observation: the agent must find out the task by acting.
+// (Discrete(num_tasks)); with the option task_id_in_obs=true the registry
+// also appends it to the observation as a one-hot vector (AppendTaskOneHot;
+// off by default, as v3's use_one_hot). ML benchmarks hide the goal and have
+// no task observation: the agent must find out the task by acting.
 //
 // EvaluationTasks(): one group per task with all its variations.
 #ifndef MANYWORLDS_MANIPULATION_BENCHMARK_H_
@@ -49,7 +52,21 @@ struct BenchmarkConfig {
   int num_variations = 50;
 };
 
-// The published splits (metaworld.md §1.2).
+// The published splits (metaworld.md §1.2), as Meta-World v3's env_dict.py
+// lists them: a task's position is its one-hot index.
+struct BenchmarkSplits {
+  std::string id;           // registry id: "mt10", "ml45", ...
+  std::string description;  // one line for `manyworlds envs`
+  bool meta = false;        // ML: goal hidden, no task observation, a test split
+  std::vector<std::string> train;
+  std::vector<std::string> test;  // ML only
+};
+// mt10, mt25, mt50, ml10, ml25, ml45 (MT1/ML1 take their task as an option).
+const std::vector<BenchmarkSplits>& PublishedBenchmarks();
+// Throws ConfigError for an id not in PublishedBenchmarks().
+const BenchmarkSplits& PublishedBenchmark(const std::string& id);
+// All 50 tasks in v3's order (ALL_V3_ENVIRONMENTS; MT50's one-hot order).
+std::vector<std::string> Mt50Tasks();
 std::vector<std::string> Mt10Tasks();
 std::vector<std::string> Ml10TrainTasks();
 std::vector<std::string> Ml10TestTasks();

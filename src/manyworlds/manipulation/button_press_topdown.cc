@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "manyworlds/manipulation/reward_v1.h"
+
 namespace manyworlds::manipulation {
 namespace {
 
@@ -31,6 +33,7 @@ SawyerTaskConfig ButtonPressTopdown::Config() {
   config.obj_high = {0.1, 0.9, 0.115};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -43,6 +46,7 @@ ButtonPressTopdown::ButtonPressTopdown(SawyerTaskConfig config, SawyerOptions op
 void ButtonPressTopdown::InitTaskState(SawyerState& s) const {
   ArticulatedTask::InitTaskState(s);
   s.obj_to_target_init = std::abs(s.obj[2] - s.goal[2]);
+  s.v1_max_dist = s.obj_to_target_init;  // v3's maxDist: the same |buttonStart.z - goal.z|
 }
 
 RewardTerms ButtonPressTopdown::ComputeReward(const SawyerState& s, std::span<const float>) const {
@@ -59,6 +63,21 @@ RewardTerms ButtonPressTopdown::ComputeReward(const SawyerState& s, std::span<co
   terms.grasp_reward = near_button;
   terms.in_place_reward = pressed;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+RewardTerms ButtonPressTopdown::ComputeRewardV1(const SawyerState& s,
+                                                 std::span<const float>) const {
+  const double press_dist = std::abs(s.obj[2] - s.goal[2]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double press = reach_dist < 0.05 ? v1::Progress(s.v1_max_dist, press_dist) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + std::max(press, 0.0);
+  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
+  terms.success = press_dist <= kSuccess;
+  terms.near_object = 1.0;
+  terms.grasp_success = 0.0;
+  terms.obj_to_target = press_dist;
   return terms;
 }
 

@@ -15,6 +15,9 @@
 //     <= 0.05; grasp_success = obs[3] > 0; grasp_reward = near_button;
 //     in_place_reward = pressed; obj_to_target = |button_z - goal_z|.
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + max(progress(|obj.z - goal.z|), 0) within
+//     5 cm, max_dist = the press depth at reset (maxDist); info from v1's
+//     zeros: success <= 0.024, near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
 #define MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
 
@@ -33,6 +36,8 @@ class ButtonPressTopdown : public ArticulatedTask {
   // own config (id, model file) with this task's fixture.
   ButtonPressTopdown(SawyerTaskConfig config, SawyerOptions options);
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
   // Also obj_to_target_init.
   void InitTaskState(SawyerState& state) const override;
 };

@@ -1,9 +1,11 @@
 #include "manyworlds/manipulation/door_open.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -31,6 +33,7 @@ SawyerTaskConfig DoorOpen::Config() {
   config.obj_low = {0.0, 0.85, 0.15};
   config.obj_high = {0.1, 0.95, 0.15};
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -66,6 +69,24 @@ RewardTerms DoorOpen::ComputeReward(const SawyerState& s, std::span<const float>
   terms.grasp_reward = grab;
   terms.in_place_reward = opened;
   terms.obj_to_target = 0.0;
+  return terms;
+}
+
+void DoorOpen::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  // v3: |handle geom - goal| in xy with the door closed; our object point
+  // stands in for v3's handle geom (our handle is our own)
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms DoorOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double pull = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, pull_dist), 0.0) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + pull;
+  // v3's evaluate_state on v1's (reward, 0, 0, 0): success as in v2
+  terms.success = std::abs(s.obj[0] - s.goal[0]) <= kSuccessX;
   return terms;
 }
 

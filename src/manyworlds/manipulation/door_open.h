@@ -18,6 +18,10 @@
 //     value in [0, 1]); grasp_success = grab >= 0.5; grasp_reward = grab;
 //     in_place_reward = opened; obj_to_target = 0 (as v3 reports it).
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? max(progress(xy
+//     distance to the goal), 0) : 0), max_dist = the handle's xy distance
+//     to the goal at reset (maxPullDist); info from v1's zeros: success as
+//     v2, every other field 0.
 #ifndef MANYWORLDS_MANIPULATION_DOOR_OPEN_H_
 #define MANYWORLDS_MANIPULATION_DOOR_OPEN_H_
 
@@ -33,6 +37,9 @@ class DoorOpen : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Pushes the door open from behind with the closed gripper (PushPanel),

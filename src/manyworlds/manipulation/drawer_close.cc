@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "manyworlds/manipulation/reward_v1.h"
+
 namespace manyworlds::manipulation {
 namespace {
 
@@ -39,6 +41,7 @@ SawyerTaskConfig DrawerClose::Config() {
   config.obj_high = {0.1, 0.9, 0.0};
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -64,6 +67,25 @@ RewardTerms DrawerClose::ComputeReward(const SawyerState& s, std::span<const flo
   terms.grasp_reward = reach;
   terms.in_place_reward = in_place;
   terms.obj_to_target = target_to_obj;
+  return terms;
+}
+
+void DrawerClose::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = kStartOpen;
+}
+
+RewardTerms DrawerClose::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double pull = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, pull_dist), 0.0) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + pull;
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kSuccess;
+  terms.near_object = 1.0;
+  terms.grasp_success = 1.0;
+  terms.obj_to_target = pull_dist;
   return terms;
 }
 

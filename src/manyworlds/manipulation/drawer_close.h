@@ -15,6 +15,9 @@
 //     <= 0.01; grasp_success 1 (as v3); grasp_reward = reach;
 //     in_place_reward = in_place; obj_to_target = |handle - goal|.
 //   (tol: long-tail, tolG: gaussian tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? max(progress(|obj.y -
+//     goal.y|), 0) : 0), max_dist 0.15 (maxDist); info from v1's zeros:
+//     success |obj.y - goal.y| <= 0.065, near_object 1, grasp_success 1.
 #ifndef MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
 
@@ -30,6 +33,9 @@ class DrawerClose : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Comes down in front of the handle with the gripper closed and pushes it

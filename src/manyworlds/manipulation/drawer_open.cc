@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/drawer_open.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -28,6 +32,7 @@ SawyerTaskConfig DrawerOpen::Config() {
   config.obj_high = {0.1, 0.9, 0.0};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -51,6 +56,25 @@ RewardTerms DrawerOpen::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_reward = caging;
   terms.in_place_reward = opening;
   terms.obj_to_target = handle_error;
+  return terms;
+}
+
+void DrawerOpen::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = kMaxDist;
+}
+
+RewardTerms DrawerOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double pull = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, pull_dist), 0.0) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + pull;
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kSuccess;
+  terms.near_object = 1.0;
+  terms.grasp_success = 0.0;
+  terms.obj_to_target = pull_dist;
   return terms;
 }
 

@@ -15,6 +15,9 @@
 //     <= 0.03; grasp_success = obs[3] > 0; grasp_reward = caging;
 //     in_place_reward = opening; obj_to_target = |handle - goal|.
 //   (tol: long-tail tolerance.)
+//   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? max(progress(|obj.y -
+//     goal.y|), 0) : 0), max_dist 0.2 (maxDist); info from v1's zeros:
+//     success |obj.y - goal.y| <= 0.03, near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_DRAWER_OPEN_H_
 #define MANYWORLDS_MANIPULATION_DRAWER_OPEN_H_
 
@@ -30,6 +33,9 @@ class DrawerOpen : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the handle bar (gripper half open on the way down: the drawer face

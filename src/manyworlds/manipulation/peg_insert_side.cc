@@ -1,9 +1,11 @@
 #include "manyworlds/manipulation/peg_insert_side.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -14,6 +16,7 @@ constexpr double kHalfLength = 0.1;  // peg centre to head
 // front face (x = +0.096 from the box); success weights y and z twice.
 constexpr Vec3 kGoalOnBox{0.03, 0.0, 0.13};
 constexpr double kTargetRadius = 0.07;  // success, and the in-place tolerance
+constexpr double kV1Lift = 0.11;  // v3's liftThresh
 constexpr Vec3 kYzTwice{1.0, 2.0, 2.0};
 constexpr double kHoleClearance = 0.01;  // per side, around the peg
 constexpr double kMouthToGoal = 0.066;   // front face to goal, in x
@@ -62,6 +65,7 @@ SawyerTaskConfig PegInsertSide::Config() {
   config.goal_low = {-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]};
   config.goal_high = {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]};
   config.min_obj_goal_xy = 0.0;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -113,6 +117,27 @@ RewardTerms PegInsertSide::ComputeReward(const SawyerState& s,
   terms.grasp_success = HeldAndLifted(s, 0.02, 0.01) ? 1.0 : 0.0;
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PegInsertSide::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], kV1Lift);
+}
+
+RewardTerms PegInsertSide::ComputeRewardV1(const SawyerState& s,
+                                           std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double head_to_target = Distance(s.obj_head, s.goal);
+  // v3 rewards the head's distance until it is within 5 cm, then the peg's
+  const double progress_dist = head_to_target <= 0.05 ? obj_to_target : head_to_target;
+  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], obj_to_target, progress_dist, 1.0);
+  RewardTerms terms;
+  terms.reward = v.reward;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0, 0, 0)
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.grasp_success = 0.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

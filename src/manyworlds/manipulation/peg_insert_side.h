@@ -19,6 +19,10 @@
 //   info: success |head - goal| <= 0.07; near_object |tcp - peg| <= 0.03;
 //     grasp_success = touching, opening > 0 and lifted 2 cm;
 //     grasp_reward = grasped; in_place_reward; obj_to_target = |head - goal|.
+//   v1: v1::PickPlace with the tcp's height change weighted 1 and the place
+//     bonus reading the head's distance to the goal until it is within 5 cm
+//     (lift target = the peg's start height + kV1Lift); info from v1's
+//     zeros: success |obj - goal| <= 0.07, near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_PEG_INSERT_SIDE_H_
 #define MANYWORLDS_MANIPULATION_PEG_INSERT_SIDE_H_
 
@@ -34,6 +38,9 @@ class PegInsertSide : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
   void RefreshTaskState(const mjData* d, SawyerState& state) const override;
 

@@ -10,6 +10,11 @@
 //   info: success |obj - goal| <= 0.07; near_object |tcp - obj| <= 0.03;
 //     grasp_success = touching and opening > 0 and lifted 2 cm;
 //     grasp_reward = grasped; in_place_reward; obj_to_target = |obj - goal|.
+//   v1: reach (xy first, tcp height change weighted 2; + max(a[3], 0) / 50
+//     within 5 cm), + 100 lift target once lifted, + max(progress(|obj -
+//     goal|), 0) while lifted, near and not dropped (v1::PickPlace; lift
+//     target 4 cm above the puck's start); info from v1's zeros: success
+//     |obj - goal| <= 0.07, near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_PICK_PLACE_H_
 #define MANYWORLDS_MANIPULATION_PICK_PLACE_H_
 
@@ -26,6 +31,9 @@ class PickPlace : public SawyerTask {
  protected:
   RewardTerms ComputeReward(const SawyerState& state,
                             std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the puck, lifts it and carries it to the goal.

@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/push.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -19,6 +23,7 @@ SawyerTaskConfig Push::Config() {
   config.goal_low = {-0.1, 0.8, 0.01};
   config.goal_high = {0.1, 0.9, 0.02};
   config.goal_z_at_object = true;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -51,6 +56,24 @@ RewardTerms Push::ComputeReward(const SawyerState& s, std::span<const float> act
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void Push::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms Push::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double reach_dist = Distance(s.tcp, s.obj);
+  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  const double push = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, push_dist), 0.0) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + push;
+  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
+  terms.success = push_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.grasp_success = 0.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

@@ -10,6 +10,10 @@
 //   info: success |obj - goal| <= 0.05; near_object |tcp - obj| <= 0.03;
 //     grasp_success = touching and opening > 0 and lifted 2 cm;
 //     grasp_reward = grasped; in_place_reward; obj_to_target = |obj - goal|.
+//   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? max(progress(xy
+//     distance to the goal), 0) : 0), max_dist = |obj_init - goal| in xy
+//     (maxPushDist); info from v1's zeros: success xy distance <= 0.05,
+//     near_object 1, grasp_success 0, obj_to_target the xy distance.
 #ifndef MANYWORLDS_MANIPULATION_PUSH_H_
 #define MANYWORLDS_MANIPULATION_PUSH_H_
 
@@ -26,6 +30,9 @@ class Push : public SawyerTask {
  protected:
   RewardTerms ComputeReward(const SawyerState& state,
                             std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the puck and slides it to the goal just above the table.

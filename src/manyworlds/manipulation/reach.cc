@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/reach.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/policy_utils.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 
@@ -13,6 +17,7 @@ SawyerTaskConfig Reach::Config() {
   config.obj_high = {0.1, 0.7, 0.02};
   config.goal_low = {-0.1, 0.8, 0.05};
   config.goal_high = {0.1, 0.9, 0.3};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -28,6 +33,21 @@ RewardTerms Reach::ComputeReward(const SawyerState& s, std::span<const float>) c
   terms.grasp_success = 1.0;
   terms.grasp_reward = tcp_to_goal;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = tcp_to_goal;
+  return terms;
+}
+
+void Reach::InitTaskState(SawyerState& s) const { s.v1_max_dist = Distance(s.tcp_init, s.goal); }
+
+RewardTerms Reach::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double tcp_to_goal = Distance(s.tcp, s.goal);
+  RewardTerms terms;
+  terms.reward = std::max(v1::Progress(s.v1_max_dist, tcp_to_goal), 0.0);
+  terms.success = tcp_to_goal <= 0.05;
+  terms.near_object = tcp_to_goal;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = tcp_to_goal;
+  terms.in_place_reward = 0.0;
   terms.obj_to_target = tcp_to_goal;
   return terms;
 }

@@ -5,6 +5,8 @@
 //   info: success |tcp - goal| <= 0.05; near_object, grasp_reward and
 //     obj_to_target = |tcp - goal|; grasp_success = 1;
 //     in_place_reward = the tolerance term.
+//   v1: reward = max(progress(|tcp - goal|), 0) with max_dist = |tcp_init -
+//     goal| (maxReachDist); info as above with in_place_reward 0.
 #ifndef MANYWORLDS_MANIPULATION_REACH_H_
 #define MANYWORLDS_MANIPULATION_REACH_H_
 
@@ -21,6 +23,9 @@ class Reach : public SawyerTask {
  protected:
   RewardTerms ComputeReward(const SawyerState& state,
                             std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Moves the tcp straight to the observed goal (needs an observable goal).

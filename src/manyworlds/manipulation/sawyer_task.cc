@@ -265,7 +265,9 @@ void SawyerTask::DoStep(std::span<const float> action, const StepView& out) {
   }
   RefreshState();
   WriteObs(out.env_obs);
-  const RewardTerms terms = ComputeReward(state_, action);
+  const RewardTerms terms = options_.reward_version == RewardVersion::kV1
+                                ? ComputeRewardV1(state_, action)
+                                : ComputeReward(state_, action);
   *out.reward = static_cast<float>(terms.reward);
   out.info[0] = terms.success ? 1.0f : 0.0f;
   out.info[1] = static_cast<float>(terms.near_object);
@@ -301,13 +303,20 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   if (!std::isfinite(state.gripper_opening)) {
     throw Error("env '" + config_.id + "': EvaluateReward: gripper_opening is not finite");
   }
-  if (!std::isfinite(state.joint_qpos) || !std::isfinite(state.obj_to_target_init)) {
-    throw Error("env '" + config_.id + "': EvaluateReward: joint_qpos or obj_to_target_init is not finite");
+  if (!std::isfinite(state.joint_qpos) || !std::isfinite(state.obj_to_target_init) ||
+      !std::isfinite(state.v1_max_dist) || !std::isfinite(state.v1_obj_height) ||
+      !std::isfinite(state.v1_height_target)) {
+    throw Error("env '" + config_.id + "': EvaluateReward: joint_qpos, obj_to_target_init or a v1_ field is not finite");
   }
   for (double x : state.obj_quat) {
     if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: obj_quat is not finite");
   }
-  return ComputeReward(state, clipped);
+  return options_.reward_version == RewardVersion::kV1 ? ComputeRewardV1(state, clipped)
+                                                      : ComputeReward(state, clipped);
+}
+
+RewardTerms SawyerTask::ComputeRewardV1(const SawyerState&, std::span<const float>) const {
+  throw Error("env '" + config_.id + "' has no reward version v1");
 }
 
 void SawyerTask::RefreshState() {

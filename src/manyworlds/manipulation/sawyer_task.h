@@ -87,11 +87,19 @@ struct SawyerTaskConfig {
   // The body whose orientation obs[7:11] holds where v3 reads another than
   // the object point's (a fixture's fixed base); empty: body "obj".
   std::string obj_quat_body;
+  // The task implements Meta-World's v1 reward (ComputeRewardV1).
+  bool has_reward_v1 = false;
 };
+
+// Meta-World's reward_function_version: "v2" (v3's default, rewards in
+// [0, 10]) or "v1" (the original shaped rewards that Meta-World+ restored;
+// unbounded, in the hundreds to thousands).
+enum class RewardVersion { kV2, kV1 };
 
 struct SawyerOptions {
   bool goal_observable = true;        // false: obs[36:39] zero, no task obs
   bool throw_on_sim_warning = false;
+  RewardVersion reward_version = RewardVersion::kV2;
 };
 
 // The state record: every world-frame quantity a reward, success rule or
@@ -134,6 +142,13 @@ struct SawyerState {
   // (stick-push, stick-pull)].
   Vec3 obj2{};
   Vec3 obj2_init{};
+  // Reward version v1 (zeros where a task's v1 reward reads none), as v3 sets
+  // them at reset: the task's normaliser [maxReachDist, maxPushDist,
+  // maxPullDist, maxPlacingDist or maxDist, whichever its v1 reads], the
+  // object's height [objHeight] and the lift target [heightTarget].
+  double v1_max_dist = 0;
+  double v1_obj_height = 0;
+  double v1_height_target = 0;
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
@@ -143,11 +158,12 @@ inline constexpr const char* kSawyerStateFields[] = {
     "obj_head", "obj_head_init",
     "joint_qpos", "handle_init", "obj_to_target_init",  // articulated tasks
     "obj_quat",
-    "obj2", "obj2_init"};  // tool-use tasks
+    "obj2", "obj2_init",  // tool-use tasks
+    "v1_max_dist", "v1_obj_height", "v1_height_target"};  // reward version v1
 
 // One step's reward and info values.
 struct RewardTerms {
-  double reward = 0;  // in [0, 10]
+  double reward = 0;  // in [0, 10] (v2); v1's are unbounded
   bool success = false;
   double near_object = 0;
   double grasp_success = 0;
@@ -166,7 +182,10 @@ class SawyerTask : public Env {
   // does from the simulator's. `action` has 4 values; like Step, the
   // gripper value is clipped to [-1, 1]. Throws Error on a wrong size or a
   // non-finite value.
+  // The env's reward version (SawyerOptions) decides which reward.
   RewardTerms EvaluateReward(const SawyerState& state, std::span<const float> action) const;
+  RewardVersion reward_version() const { return options_.reward_version; }
+  bool HasRewardV1() const { return config_.has_reward_v1; }
   long sim_warning_count() const { return sim_warning_count_; }
 
   // Writes the complete MJCF of the current variation (objects, fixtures,
@@ -184,6 +203,10 @@ class SawyerTask : public Env {
   // The task's reward and info for the state after a step. Pure.
   virtual RewardTerms ComputeReward(const SawyerState& state,
                                     std::span<const float> action) const = 0;
+  // The same under reward version v1 (tasks with HasRewardV1). Pure. The
+  // default throws Error.
+  virtual RewardTerms ComputeRewardV1(const SawyerState& state,
+                                      std::span<const float> action) const;
 
   TaskState DoSampleTaskState(Rng& task_rng) override;
   TaskState DoGetTaskState() const override;

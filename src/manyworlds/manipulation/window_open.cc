@@ -1,6 +1,9 @@
 #include "manyworlds/manipulation/window_open.h"
 
+#include <algorithm>
 #include <cmath>
+
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -29,6 +32,7 @@ SawyerTaskConfig WindowOpen::Config() {
   config.obj_high = {0.1, 0.9, 0.16};
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -50,6 +54,26 @@ RewardTerms WindowOpen::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_reward = reach;
   terms.in_place_reward = in_place;
   terms.obj_to_target = target_to_obj;
+  return terms;
+}
+
+void WindowOpen::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = 0.2;  // v3's maxPullDist, a constant
+}
+
+RewardTerms WindowOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::abs(s.obj[0] - s.goal[0]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  // v3 does not clamp this bonus at 0
+  const double pull = reach_dist < 0.05 ? v1::Progress(s.v1_max_dist, pull_dist) : 0.0;
+  RewardTerms terms;
+  terms.reward = -reach_dist + pull;
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.grasp_success = 1.0;
+  terms.obj_to_target = pull_dist;
   return terms;
 }
 

@@ -16,6 +16,10 @@
 //     <= 0.05; grasp_success 1 (as v3); grasp_reward = reach;
 //     in_place_reward = in_place; obj_to_target = |handle_x - goal_x|.
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? progress(|obj.x -
+//     goal.x|) : 0) (not clamped, as v3), max_dist 0.2 (maxPullDist); info
+//     from v1's zeros: success |obj.x - goal.x| <= 0.05, near_object 1,
+//     grasp_success 1.
 #ifndef MANYWORLDS_MANIPULATION_WINDOW_OPEN_H_
 #define MANYWORLDS_MANIPULATION_WINDOW_OPEN_H_
 
@@ -31,6 +35,9 @@ class WindowOpen : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Pushes the handle bar to the goal with one open finger pad

@@ -1,0 +1,93 @@
+"""Reward version v1 (Meta-World's reward_function_version "v1") against the official package.
+
+As test_metaworld_fidelity.py does for v2: the official env, made with
+reward_function_version="v1", runs random and noisy-scripted episodes; its recorder takes the
+quantities the v1 reward reads (with the normaliser and lift heights v3 sets at reset, the record's
+v1_ fields); our v1 reward, success and info on the same records must agree to 1e-5 (relative),
+success exactly. FAITHFUL_V1 lists the tasks that have v1 (docs/fidelity.md lists the rest).
+"""
+
+import json
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import manyworlds
+import manyworlds.manipulation as mp
+
+from test_metaworld_fidelity import FIELDS, RECORDER, close
+
+FAITHFUL_V1 = ["reach", "push", "pick-place", "door-open", "drawer-open", "drawer-close",
+               "button-press-topdown", "peg-insert-side", "window-open", "window-close"]
+
+
+# Where v3's own scripted policy never brings the tcp within v1's 5 cm of the object point in
+# these episodes, so only v1's reach term is compared: window-open (its policy pushes the
+# handle's side from farther away).
+BONUS_NOT_REACHED = {"window-open"}
+
+
+@pytest.fixture(scope="module")
+def records_v1(tmp_path_factory):
+    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
+    if not python:
+        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
+    out = tmp_path_factory.mktemp("metaworld_v1") / "records.json"
+    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL_V1), "--goals", "3",
+                          "--steps", "150", "--seed", "7", "--reward-version", "v1",
+                          "--out", str(out)],
+                         timeout=600, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
+    data = json.loads(out.read_text())
+    assert data["reward_version"] == "v1"
+    return data["rows"]
+
+
+@pytest.mark.parametrize("task", FAITHFUL_V1)
+def test_v1_reward_success_and_info_match_the_official_package(records_v1, task):
+    rows = [row for row in records_v1 if row["task"] == task]
+    assert len(rows) == 3 * 2 * 150
+    # v1's shaped bonus must be exercised, not only its (negative) reach term
+    if task not in BONUS_NOT_REACHED:
+        assert max(row["reward"] for row in rows) > 0
+    mismatches = []
+    for i, row in enumerate(rows):
+        ours = mp.reward(task, row["state"], row["action"], reward_version="v1")
+        if not close(ours["reward"], row["reward"]):
+            mismatches.append((i, "reward", ours["reward"], row["reward"]))
+        if ours["success"] != row["info"]["success"]:
+            mismatches.append((i, "success", ours["success"], row["info"]["success"]))
+        for field in FIELDS:
+            if not close(ours[field], row["info"][field]):
+                mismatches.append((i, field, ours[field], row["info"][field]))
+    assert not mismatches, f"{len(mismatches)} mismatches, first: {mismatches[:5]}"
+
+
+def test_v1_env_steps_with_the_v1_reward():
+    v1 = manyworlds._core.Env("push", {"reward_version": "v1"})
+    v2 = manyworlds._core.Env("push")
+    action = np.array([0.0, 0.0, -0.5, 1.0], dtype=np.float32)
+    for env in (v1, v2):
+        env.seed_task(4)
+        env.reset_task_state()
+        env.reset()
+    for _ in range(10):
+        r1 = v1.step(action)[2]
+        r2 = v2.step(action)[2]
+        record = manyworlds._core.sawyer_state(v1)
+        assert r1 == pytest.approx(mp.reward("push", record, action, "v1")["reward"], rel=1e-6)
+        assert r1 < 0 <= r2  # far from the puck: v1 is -|tcp - obj|, v2 >= 0
+
+
+def test_v1_is_refused_where_a_task_lacks_it():
+    missing = [t for t in mp_tasks() if t not in FAITHFUL_V1]
+    if not missing:
+        pytest.skip("every task has v1")
+    with pytest.raises(manyworlds.ConfigError, match="reward_version=v1"):
+        manyworlds.make(missing[0], reward_version="v1")
+
+
+def mp_tasks():
+    return [e["id"] for e in manyworlds._core.registry_entries() if e["family"] == "manipulation"]
