@@ -20,7 +20,9 @@ import manyworlds.manipulation as mp
 from test_metaworld_fidelity import FIELDS, RECORDER, close
 
 FAITHFUL_V1 = ["reach", "push", "pick-place", "door-open", "drawer-open", "drawer-close",
-               "button-press-topdown", "peg-insert-side", "window-open", "window-close"]
+               "button-press-topdown", "peg-insert-side", "window-open", "window-close",
+               "door-close", "lever-pull", "reach-wall", "push-wall", "push-back", "soccer",
+               "sweep", "sweep-into"]
 
 
 # Where v3's own scripted policy never brings the tcp within v1's 5 cm of the object point in

@@ -33,7 +33,7 @@ TEST(RewardV1Test, ProgressIsV3sFormula) {
   EXPECT_LT(v1::Progress(0.1, 1.0), 0.0);  // callers clamp where v3 does
 }
 
-TEST(RewardV1Test, TheTenMt10TasksHaveIt) {
+TEST(RewardV1Test, TheMt10TasksHaveIt) {
   const std::vector<std::string> ids = TasksWithV1();
   for (const char* task : {"reach", "push", "pick-place", "door-open", "drawer-open",
                            "drawer-close", "button-press-topdown", "peg-insert-side",

@@ -36,7 +36,11 @@ OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init",
 V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "maxPlacingDist",
                "door-open": "maxPullDist", "drawer-open": "maxDist", "drawer-close": "maxDist",
                "button-press-topdown": "maxDist", "peg-insert-side": "maxPlacingDist",
-               "window-open": "maxPullDist", "window-close": "maxPullDist"}
+               "window-open": "maxPullDist", "window-close": "maxPullDist",
+               "door-close": "maxPullDist", "lever-pull": "maxPullDist",
+               "reach-wall": "maxReachDist", "push-wall": "maxPushDist",
+               "push-back": "maxPushDist", "soccer": "maxPushDist", "sweep": "maxPushDist",
+               "sweep-into": "maxPushDist"}
 
 
 def v1_fields(env, task):

@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/door_close.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -29,6 +33,7 @@ SawyerTaskConfig DoorClose::Config() {
   config.obj_low = {0.0, 0.85, 0.15};
   config.obj_high = {0.1, 0.95, 0.15};
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -49,6 +54,24 @@ RewardTerms DoorClose::ComputeReward(const SawyerState& s, std::span<const float
   terms.grasp_reward = 1.0;
   terms.in_place_reward = hand_in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void DoorClose::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  // v3: the handle's xy distance to the goal with the door open at reset
+  s.v1_max_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+}
+
+RewardTerms DoorClose::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, pull_dist, 0)
+  terms.success = pull_dist <= kSuccess;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = 1.0;
+  terms.obj_to_target = pull_dist;
   return terms;
 }
 

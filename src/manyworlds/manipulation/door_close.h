@@ -14,6 +14,10 @@
 //     grasp_reward 1 (constants, as in v3); in_place_reward = hand_in_place;
 //     obj_to_target = |handle - goal|.
 //   (tolG: gaussian tolerance.)
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, max_dist = that distance at reset (maxPullDist); info from
+//     v1's (reward, distance, 0): success <= 0.08, near_object 0,
+//     grasp_success 1, grasp_reward 1.
 #ifndef MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
 
@@ -29,6 +33,9 @@ class DoorClose : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Pushes the open door shut on its handle side with the closed gripper

@@ -1,9 +1,11 @@
 #include "manyworlds/manipulation/lever_pull.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -36,6 +38,7 @@ SawyerTaskConfig LeverPull::Config() {
   config.obj_low = {-0.1, 0.7, 0.0};
   config.obj_high = {0.1, 0.8, 0.0};
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -65,6 +68,22 @@ RewardTerms LeverPull::ComputeReward(const SawyerState& s, std::span<const float
   terms.grasp_reward = ready;
   terms.in_place_reward = engagement;
   terms.obj_to_target = shoulder_to_lever;
+  return terms;
+}
+
+void LeverPull::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = Distance(s.goal, s.obj_init);  // v3's maxPullDist
+}
+
+RewardTerms LeverPull::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = Distance(s.obj, s.goal);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0): pull_dist is read as the
+  // lever's angle error
+  terms.success = pull_dist <= kSuccess;
+  terms.near_object = 1.0;
   return terms;
 }
 

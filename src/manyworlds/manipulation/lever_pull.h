@@ -16,6 +16,10 @@
 //     grasp_success = ready > 0.9; grasp_reward = ready; in_place_reward =
 //     engagement; obj_to_target = |shoulder| (as v3 reports them).
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + max(progress(|obj - goal|), 0) within 5 cm,
+//     max_dist = |goal - obj_init| (maxPullDist); info from v1's (reward, 0,
+//     0, |obj - goal|, 0): success |obj - goal| <= pi/24 (v3 reads the
+//     distance as its angle error), near_object 1, the rest 0.
 #ifndef MANYWORLDS_MANIPULATION_LEVER_PULL_H_
 #define MANYWORLDS_MANIPULATION_LEVER_PULL_H_
 
@@ -31,6 +35,9 @@ class LeverPull : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the grip beside the arm and carries it up around the lever's axis

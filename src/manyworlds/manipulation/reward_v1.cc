@@ -9,6 +9,12 @@ double Progress(double max_dist, double d) {
   return 1000.0 * (max_dist - d) + 1000.0 * (std::exp(-d * d / 0.01) + std::exp(-d * d / 0.001));
 }
 
+double ReachThenProgress(double reach_dist, double max_dist, double d, bool clamp) {
+  if (reach_dist >= 0.05) return -reach_dist;
+  const double bonus = Progress(max_dist, d);
+  return -reach_dist + (clamp ? std::max(bonus, 0.0) : bonus);
+}
+
 PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
                          double progress_dist, double z_weight) {
   const double reach_dist = Distance(s.obj, s.tcp);

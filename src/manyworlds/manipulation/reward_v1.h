@@ -16,6 +16,10 @@ namespace manyworlds::manipulation::v1 {
 // exp(-d^2 / 0.001)), without clamping (callers clamp where v3 does).
 double Progress(double max_dist, double d);
 
+// -reach_dist, plus, once reach_dist < 0.05, Progress(max_dist, d) (clamped
+// at 0 where `clamp`): the v1 reward of the push, pull, press and turn tasks.
+double ReachThenProgress(double reach_dist, double max_dist, double d, bool clamp = true);
+
 // The pick-and-place v1 reward (pick-place, and the tasks that copy it):
 // reach (with v3's xy-first shaping and the finger-closing incentive), a lift
 // bonus once the object is at the lift target, and a place bonus toward

@@ -1,7 +1,11 @@
 #include "manyworlds/manipulation/sweep.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -22,6 +26,7 @@ SawyerTaskConfig Sweep::Config() {
   // Only bounds the observation: the goal is DeriveGoal's.
   config.goal_low = {0.49, 0.6, 0.0};
   config.goal_high = {0.51, 0.7, 0.02};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -51,6 +56,29 @@ RewardTerms Sweep::ComputeReward(const SawyerState& s, std::span<const float> /*
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void Sweep::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms Sweep::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double reach_dist = Distance(s.obj, s.tcp);
+  double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  double reward = -reach_dist;
+  // v3: once the puck has fallen off the table, reach and distance count as 0 (the
+  // bonus still needs the tcp within 5 cm)
+  if (s.obj[2] < s.obj_init[2] - 0.05) {
+    reward = 0.0;
+    push_dist = 0.0;
+  }
+  if (reach_dist < 0.05) reward += std::max(v1::Progress(s.v1_max_dist, push_dist), 0.0);
+  RewardTerms terms;
+  terms.reward = reward;
+  terms.success = push_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

@@ -10,6 +10,10 @@
 //     grasp_success = a pad touches the puck, opening > 0 and tcp within
 //     2 cm of it (the puck stays on the table); grasp_reward = grasped;
 //     in_place_reward; obj_to_target = |obj - goal|.
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, both terms' distances 0 once the puck is 5 cm below its
+//     start, max_dist = |obj_init - goal| in xy (maxPushDist); info from
+//     v1's zeros: success distance <= 0.05, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_SWEEP_H_
 #define MANYWORLDS_MANIPULATION_SWEEP_H_
 
@@ -25,6 +29,9 @@ class Sweep : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;
 };
 

@@ -1,7 +1,11 @@
 #include "manyworlds/manipulation/sweep_into.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -20,6 +24,7 @@ SawyerTaskConfig SweepInto::Config() {
   // The pocket does not move: the goal is one point.
   config.goal_low = {0.0, 0.84, 0.02};
   config.goal_high = {0.0, 0.84, 0.02};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -44,6 +49,28 @@ RewardTerms SweepInto::ComputeReward(const SawyerState& s, std::span<const float
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void SweepInto::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms SweepInto::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double reach_dist = Distance(s.obj, s.tcp);
+  double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  double reward = -reach_dist;
+  // v3: a puck 5 cm below its start, over the table's span in y, counts as in
+  if (s.obj[2] < s.obj_init[2] - 0.05 && s.obj[1] > 0.4 && s.obj[1] < 1.0) {
+    reward = 0.0;
+    push_dist = 0.0;
+  }
+  if (reach_dist < 0.05) reward += std::max(v1::Progress(s.v1_max_dist, push_dist), 0.0);
+  RewardTerms terms;
+  terms.reward = reward;
+  terms.success = push_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

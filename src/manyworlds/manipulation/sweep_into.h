@@ -12,6 +12,10 @@
 //     grasp_success = a pad touches the puck, opening > 0 and tcp within
 //     2 cm of it; grasp_reward = grasped; in_place_reward;
 //     obj_to_target = |obj - goal|.
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, both distances 0 once the puck has dropped 5 cm (with
+//     0.4 < y < 1), max_dist = |obj_init - goal| in xy (maxPushDist); info
+//     from v1's zeros: success distance <= 0.05, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_SWEEP_INTO_H_
 #define MANYWORLDS_MANIPULATION_SWEEP_INTO_H_
 
@@ -27,6 +31,9 @@ class SweepInto : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Closes on the puck and slides it, 5 mm above the table, into the pocket.

@@ -1,7 +1,11 @@
 #include "manyworlds/manipulation/slide/push_back.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 
@@ -15,6 +19,7 @@ SawyerTaskConfig PushBack::Config() {
   config.goal_low = {-0.1, 0.6, 0.02};
   config.goal_high = {0.1, 0.7, 0.02};
   config.goal_z_at_object = true;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -41,6 +46,21 @@ RewardTerms PushBack::ComputeReward(const SawyerState& s, std::span<const float>
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PushBack::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms PushBack::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
+  terms.success = push_dist <= 0.07;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

@@ -7,6 +7,10 @@
 //     1 cm, the gripper partly closed (0 < obs[3] < 0.55) and the block 1 cm
 //     nearer the goal than at the start; 10 within 0.05.
 //   info: success |block - goal| <= 0.07.
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, max_dist = |obj_init - goal| in xy (maxPushDist); info
+//     from v1's zeros: success xy distance <= 0.07, near_object 1,
+//     grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_SLIDE_PUSH_BACK_H_
 #define MANYWORLDS_MANIPULATION_SLIDE_PUSH_BACK_H_
 
@@ -22,6 +26,9 @@ class PushBack : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the block and carries it to the goal just above the table.

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/slide/push_from_behind.h"
 #include "manyworlds/sim/ids.h"
 
@@ -26,6 +27,7 @@ SawyerTaskConfig Soccer::Config() {
   config.obj_high = {0.1, 0.7, kBallRadius};
   config.goal_low = {-0.1, 0.8, 0.0};
   config.goal_high = {0.1, 0.9, 0.0};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -60,6 +62,21 @@ RewardTerms Soccer::ComputeReward(const SawyerState& s, std::span<const float>) 
   terms.grasp_success = GraspSuccess(s);
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  return terms;
+}
+
+void Soccer::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms Soccer::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
+  terms.success = push_dist <= 0.07;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

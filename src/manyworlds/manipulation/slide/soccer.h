@@ -10,6 +10,10 @@
 //     10 with d < 0.07.
 //   info: success |ball - goal| <= 0.07 (unweighted, as v3 computes it);
 //     obj_to_target |ball - goal|.
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, max_dist = |obj_init - goal| in xy (maxPushDist); info
+//     from v1's zeros: success xy distance <= 0.07, near_object 1,
+//     grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_SLIDE_SOCCER_H_
 #define MANYWORLDS_MANIPULATION_SLIDE_SOCCER_H_
 
@@ -25,6 +29,9 @@ class Soccer : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
 
  private:

@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/wall/push_wall.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/wall/wall.h"
 
 namespace manyworlds::manipulation {
@@ -11,6 +15,7 @@ SawyerTaskConfig PushWall::Config() {
   config.description = "Sawyer arm: push a puck past a wall to a goal on the table";
   config.xml_file = "push_wall.xml";
   config.goal_z_at_object = true;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -48,6 +53,21 @@ RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float>
   terms.grasp_reward = grasped;
   terms.in_place_reward = to_goal;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PushWall::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms PushWall::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
+  terms.success = push_dist <= 0.07;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
   return terms;
 }
 

@@ -7,6 +7,10 @@
 //     midpoint (-0.05, 0.77) past the wall's end, and once the puck is past
 //     y 0.75, 2 g + 5 + 3 tol(|puck - goal|, (0, 0.05)); 10 within 0.05.
 //   info: success |puck - goal| <= 0.07; in_place_reward = the goal term.
+//   v1: reward = -|tcp - obj| + max(progress(xy distance to the goal), 0)
+//     within 5 cm, max_dist = |obj_init - goal| in xy (maxPushDist); info
+//     from v1's zeros: success xy distance <= 0.07, near_object 1,
+//     grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_WALL_PUSH_WALL_H_
 #define MANYWORLDS_MANIPULATION_WALL_PUSH_WALL_H_
 
@@ -22,6 +26,9 @@ class PushWall : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the puck, lifts it over the wall and sets it on the goal.

@@ -1,8 +1,10 @@
 #include "manyworlds/manipulation/wall/reach_wall.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "manyworlds/manipulation/policy_utils.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/wall/wall.h"
 
 namespace manyworlds::manipulation {
@@ -12,6 +14,7 @@ SawyerTaskConfig ReachWall::Config() {
   config.id = "reach-wall";
   config.description = "Sawyer arm: reach a goal behind a wall";
   config.xml_file = "reach_wall.xml";
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -24,6 +27,18 @@ RewardTerms ReachWall::ComputeReward(const SawyerState& s, std::span<const float
   terms.reward = 10.0 * in_place;
   terms.success = tcp_to_goal <= 0.05;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = tcp_to_goal;
+  return terms;
+}
+
+void ReachWall::InitTaskState(SawyerState& s) const { s.v1_max_dist = Distance(s.tcp_init, s.goal); }
+
+RewardTerms ReachWall::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double tcp_to_goal = Distance(s.tcp, s.goal);
+  RewardTerms terms;
+  terms.reward = std::max(v1::Progress(s.v1_max_dist, tcp_to_goal), 0.0);
+  // v3's evaluate_state on v1's (reward, distance, 0)
+  terms.success = tcp_to_goal <= 0.05;
   terms.obj_to_target = tcp_to_goal;
   return terms;
 }

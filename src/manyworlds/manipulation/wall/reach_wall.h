@@ -5,6 +5,9 @@
 //   info: success |tcp - goal| <= 0.05; obj_to_target = |tcp - goal|;
 //     in_place_reward = the tolerance; near_object, grasp_success and
 //     grasp_reward are 0 (as v3).
+//   v1: reward = max(progress(|tcp - goal|), 0), max_dist = |tcp_init -
+//     goal| (maxReachDist); info: success <= 0.05, obj_to_target the
+//     distance, the rest 0.
 #ifndef MANYWORLDS_MANIPULATION_WALL_REACH_WALL_H_
 #define MANYWORLDS_MANIPULATION_WALL_REACH_WALL_H_
 
@@ -20,6 +23,9 @@ class ReachWall : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Rises over the wall, then moves to the goal.
