@@ -144,11 +144,11 @@ TEST_P(CoffeeMugTest, MachineAndMugStandWhereMetaWorldPutsThem) {
     const Vec3 obj = Param(env_->GetTaskState(), "obj_pos");
     const Vec3 goal = Param(env_->GetTaskState(), "goal_pos");
     EXPECT_GE(std::hypot(obj[0] - goal[0], obj[1] - goal[1]), 0.15);
-    // The spout over the goal (push) or the mug's start (pull).
-    const Vec3& under_spout = push ? goal : obj;
+    // The machine behind the goal (push) or the mug's start (pull).
+    const Vec3& at_machine = push ? goal : obj;
     const Vec3 machine = BodyPos(task(), "coffee_machine");
-    EXPECT_NEAR(machine[0], under_spout[0], 1e-12);
-    EXPECT_NEAR(machine[1], under_spout[1] + 0.22, 1e-12);
+    EXPECT_NEAR(machine[0], at_machine[0], 1e-12);
+    EXPECT_NEAR(machine[1], at_machine[1] + 0.22, 1e-12);
     // The mug's foot at rest with v3's yaw; obs[7:11] its (x, y, z, w).
     EXPECT_NEAR(obs.env_obs[kObsObj1Pos + 0], obj[0], 1e-6);
     EXPECT_NEAR(obs.env_obs[kObsObj1Pos + 1], obj[1], 1e-6);

@@ -29,7 +29,8 @@ HANDLE_INIT = {"window-open": "window_handle_pos_init", "window-close": "window_
 OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init",
                       "button-press": "_obj_to_target_init",
                       "button-press-wall": "_obj_to_target_init",
-                      "button-press-topdown-wall": "_obj_to_target_init"}
+                      "button-press-topdown-wall": "_obj_to_target_init",
+                      "coffee-button": "max_dist"}
 
 
 # Reward version v1: the attribute holding each task's normaliser (v3 sets it at reset).

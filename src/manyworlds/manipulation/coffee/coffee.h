@@ -12,9 +12,10 @@
 
 namespace manyworlds::manipulation::coffee {
 
-// The mug under the spout stands this far in front of (-y) the machine's
-// origin: v3 puts its mug there in coffee-button, the goal there in
-// coffee-push, the mug's start there in coffee-pull.
+// The mug's place at the machine, this far in front of (-y) the machine's
+// origin (v3's site coffee_goal, 3.5 cm in front of the spout): v3 puts its
+// mug there in coffee-button, the goal there in coffee-push, the mug's
+// start there in coffee-pull.
 inline constexpr double kMugBeforeMachine = 0.22;
 
 // Puts the mug (free joint at qpos/dof addresses `qpos`, `dof`) at rest on

@@ -4,7 +4,7 @@
 //     coffee_machine body); the button's face (obs[4:7], v3's site
 //     buttonStart) rests at obj_pos + (0, -0.22, 0.3) and goes in by up to
 //     0.03 m; goal = obj_pos + (0, -0.19, 0.3), the full press; the mug
-//     stands under the spout at obj_pos + (0, -0.22, 0) (coffee.h); hand
+//     stands at the machine, at obj_pos + (0, -0.22, 0) (coffee.h); hand
 //     starts at (0, 0.4, 0.2), bounds (-0.5, 0.4, 0.05)-(0.5, 1, 0.5);
 //     obs[7:11] = (1, 0, 0, 0), as v3 writes (the machine's (w, x, y, z)).
 //   reward: button-press's (press/buttons.h) with v3's press margin
@@ -34,7 +34,7 @@ class CoffeeButton : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
-  // The machine, then the mug under its spout.
+  // The machine, then the mug in front of it.
   void PlaceObjects(mjModel* m, mjData* d) override;
   // Also obj_to_target_init = v3's max_dist.
   void InitTaskState(SawyerState& state) const override;

@@ -48,9 +48,9 @@ CoffeeMugTask::CoffeeMugTask(SawyerTaskConfig config, bool machine_at_goal, Sawy
 
 void CoffeeMugTask::PlaceObjects(mjModel* m, mjData* d) {
   coffee::PlaceMug(d, mug_qpos_, mug_dof_, obj_pos()[0], obj_pos()[1]);
-  const Vec3& under_spout = machine_at_goal_ ? goal_pos() : obj_pos();
+  const Vec3& at_machine = machine_at_goal_ ? goal_pos() : obj_pos();
   PlaceFixture(m, machine_,
-               {under_spout[0], under_spout[1] + coffee::kMugBeforeMachine, under_spout[2]});
+               {at_machine[0], at_machine[1] + coffee::kMugBeforeMachine, at_machine[2]});
 }
 
 RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const float> action) const {
@@ -83,7 +83,7 @@ RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const f
 SawyerTaskConfig CoffeePush::Config() {
   SawyerTaskConfig config = BaseConfig();
   config.id = "coffee-push";
-  config.description = "Sawyer arm: move the mug to the coffee machine's spout";
+  config.description = "Sawyer arm: move the mug to the front of the coffee machine";
   config.xml_file = "coffee_push.xml";
   config.obj_low = {-0.1, 0.55, -0.001};
   config.obj_high = {0.1, 0.65, 0.001};
@@ -97,7 +97,7 @@ CoffeePush::CoffeePush(SawyerOptions options) : CoffeeMugTask(Config(), true, op
 SawyerTaskConfig CoffeePull::Config() {
   SawyerTaskConfig config = BaseConfig();
   config.id = "coffee-pull";
-  config.description = "Sawyer arm: move the mug away from the coffee machine's spout";
+  config.description = "Sawyer arm: move the mug away from the coffee machine";
   config.xml_file = "coffee_pull.xml";
   config.obj_low = {-0.05, 0.7, -0.001};
   config.obj_high = {0.05, 0.75, 0.001};

@@ -2,9 +2,9 @@
 // the mug over the table, toward or away from the coffee machine.
 //   coffee-push: mug in [(-0.1, 0.55, -0.001), (0.1, 0.65, 0.001)], goal in
 //     [(-0.05, 0.7, -0.001), (0.05, 0.75, 0.001)], the machine 0.22 m
-//     behind the goal (the goal is under its spout).
-//   coffee-pull: mug in [(-0.05, 0.7, -0.001), (0.05, 0.75, 0.001)] under
-//     the spout, the machine 0.22 m behind it; goal in
+//     behind the goal.
+//   coffee-pull: mug in [(-0.05, 0.7, -0.001), (0.05, 0.75, 0.001)], the
+//     machine 0.22 m behind it; goal in
 //     [(-0.1, 0.55, -0.001), (0.1, 0.65, 0.001)].
 //   Both: mug and goal >= 0.15 m apart in xy; hand starts at (0, 0.4, 0.2),
 //     bounds (-0.5, 0.4, 0.05)-(0.5, 1, 0.5); obs[4:7] is the mug's foot
