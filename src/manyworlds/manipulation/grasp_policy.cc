@@ -30,4 +30,16 @@ void GraspAndCarry(const SawyerObs& o, const Vec3& carry_to, std::span<float> ac
   }
 }
 
+void GraspAndCarryOver(const SawyerObs& o, const Vec3& carry_to, double clearance, double over_xy,
+                       std::span<float> action, const GraspParams& p) {
+  const Vec3& obj = o.obj1;
+  Vec3 via = carry_to;
+  if (std::hypot(obj[0] - carry_to[0], obj[1] - carry_to[1]) > over_xy) {
+    // 1 cm short of the clearance height counts as up.
+    const bool up = obj[2] > clearance - 0.01;
+    via = up ? Vec3{carry_to[0], carry_to[1], clearance} : Vec3{obj[0], obj[1], clearance};
+  }
+  GraspAndCarry(o, via, action, p);
+}
+
 }  // namespace manyworlds::manipulation

@@ -30,6 +30,14 @@ struct GraspParams {
 void GraspAndCarry(const SawyerObs& obs, const Vec3& carry_to, std::span<float> action,
                    const GraspParams& params);
 
+// GraspAndCarry over obstacles (hole and bin edges): while the object is
+// more than `over_xy` from carry_to in xy, it is carried at tcp height
+// `clearance`, first straight up from where it is, then across; once over
+// carry_to it goes straight there (down into a hole or bin, or up).
+void GraspAndCarryOver(const SawyerObs& obs, const Vec3& carry_to, double clearance,
+                       double over_xy, std::span<float> action,
+                       const GraspParams& params = GraspParams{});
+
 }  // namespace manyworlds::manipulation
 
 #endif  // MANYWORLDS_MANIPULATION_GRASP_POLICY_H_

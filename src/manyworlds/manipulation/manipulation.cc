@@ -12,6 +12,8 @@
 #include "manyworlds/manipulation/door_open.h"
 #include "manyworlds/manipulation/drawer_close.h"
 #include "manyworlds/manipulation/drawer_open.h"
+#include "manyworlds/manipulation/hole/hand_insert.h"
+#include "manyworlds/manipulation/hole/pick_out_of_hole.h"
 #include "manyworlds/manipulation/lever_pull.h"
 #include "manyworlds/manipulation/peg_insert_side.h"
 #include "manyworlds/manipulation/pick_place.h"
@@ -93,6 +95,8 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<CoffeeButton, CoffeeButtonScriptedPolicy>(),
       Entry<CoffeePush, CoffeeMugScriptedPolicy>(),
       Entry<CoffeePull, CoffeeMugScriptedPolicy>(),
+      Entry<HandInsert, HandInsertScriptedPolicy>(),
+      Entry<PickOutOfHole, PickOutOfHoleScriptedPolicy>(),
   };
   return tasks;
 }

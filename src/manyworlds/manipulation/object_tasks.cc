@@ -47,6 +47,14 @@ double WeightedDistance(const Vec3& a, const Vec3& b, const Vec3& w) {
   return std::sqrt(sum);
 }
 
+double FunnelFloor(double radius, double threshold, double scale, double height) {
+  return radius <= threshold ? 0.0 : scale * std::log(radius - threshold) + height;
+}
+
+double AboveFloor(double z, double floor, double margin) {
+  return z >= floor ? 1.0 : LongTailTolerance(floor - z, 0.0, 0.01, margin);
+}
+
 Vec3 SitePosition(const mjData* d, int site) {
   const mjtNum* p = d->site_xpos + 3 * site;
   return {p[0], p[1], p[2]};

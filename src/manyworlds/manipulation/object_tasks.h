@@ -44,6 +44,15 @@ double GraspSuccess(const SawyerState& state);
 // |diag(weights) (a - b)|: weighting an axis makes it count more.
 double WeightedDistance(const Vec3& a, const Vec3& b, const Vec3& weights);
 
+// Meta-World v3's funnel-shaped floor around a point (pick-out-of-hole,
+// bin-picking, box-close): the height the hand should keep at horizontal
+// distance `radius` from it, 0 within `threshold`, else
+// scale * ln(radius - threshold) + height.
+double FunnelFloor(double radius, double threshold, double scale, double height);
+// 1 when `z` is at or above `floor`, else the long-tail tolerance of
+// floor - z within (0, 0.01) with `margin`.
+double AboveFloor(double z, double floor, double margin);
+
 Vec3 SitePosition(const mjData* d, int site);
 
 // Moves a static (jointless, world-child) body so its frame is at `pos`.

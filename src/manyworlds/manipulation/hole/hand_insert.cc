@@ -1,0 +1,73 @@
+#include "manyworlds/manipulation/hole/hand_insert.h"
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr double kTargetRadius = 0.05;
+// The block's centre resting on the top is this far above v3's obj_pos.
+constexpr double kRestAboveObjPos = 0.02;
+
+}  // namespace
+
+SawyerTaskConfig HandInsert::Config() {
+  SawyerTaskConfig config;
+  config.id = "hand-insert";
+  config.description = "Sawyer arm: push a block over the table into a hole";
+  config.xml_file = "hand_insert.xml";
+  config.hand_low = {-0.5, 0.40, -0.15};
+  config.obj_low = {-0.1, 0.6, 0.05};
+  config.obj_high = {0.1, 0.7, 0.05};
+  config.goal_low = {-0.04, 0.8, -0.0201};
+  config.goal_high = {0.04, 0.88, -0.0199};
+  config.obj_quat = QuatLayout::kWxyz;
+  return config;
+}
+
+HandInsert::HandInsert(SawyerOptions options) : SawyerTask(Config(), options) {
+  const mjModel* m = model();
+  obj_qpos_ = m->jnt_qposadr[m->body_jntadr[mj_name2id(m, mjOBJ_BODY, "obj")]];
+}
+
+void HandInsert::PlaceObjects(mjModel* m, mjData* d) {
+  SawyerTask::PlaceObjects(m, d);
+  d->qpos[obj_qpos_ + 2] += kRestAboveObjPos;
+}
+
+RewardTerms HandInsert::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double tcp_to_obj = Distance(s.obj, s.tcp);
+  const double in_place =
+      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
+  CagingParams caging;
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.05;
+  caging.object_reach_radius = 0.01;
+  caging.xz_thresh = 0.005;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+
+  RewardTerms terms;
+  terms.reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) terms.reward += 1.0 + 7.0 * in_place;
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void HandInsertScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                   std::span<float> action) {
+  const SawyerObs o(env_obs);
+  // Carried with its bottom 3 cm above the top (centre 0.1), then down onto
+  // the hole floor (centre 0.02).
+  GraspAndCarryOver(o, {o.goal[0], o.goal[1], 0.02}, 0.1, 0.01, action);
+}
+
+}  // namespace manyworlds::manipulation

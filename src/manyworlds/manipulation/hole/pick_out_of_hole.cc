@@ -1,0 +1,66 @@
+#include "manyworlds/manipulation/hole/pick_out_of_hole.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+
+SawyerTaskConfig PickOutOfHole::Config() {
+  SawyerTaskConfig config;
+  config.id = "pick-out-of-hole";
+  config.description = "Sawyer arm: pick a puck out of a hole in the table";
+  config.xml_file = "pick_out_of_hole.xml";
+  config.hand_low = {-0.5, 0.40, -0.05};
+  config.obj_low = {0.0, 0.75, 0.02};
+  config.obj_high = {0.0, 0.75, 0.02};
+  config.goal_low = {-0.1, 0.5, 0.15};
+  config.goal_high = {0.1, 0.6, 0.3};
+  config.obj_quat = QuatLayout::kWxyz;
+  return config;
+}
+
+PickOutOfHole::PickOutOfHole(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+RewardTerms PickOutOfHole::ComputeReward(const SawyerState& s,
+                                         std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double tcp_to_obj = Distance(s.obj, s.tcp);
+  const double radius = std::hypot(s.tcp[0] - s.obj_init[0], s.tcp[1] - s.obj_init[1]);
+  const double above_floor = AboveFloor(s.tcp[2], FunnelFloor(radius, 0.03, 0.015, 0.15), 0.02);
+  CagingParams caging;
+  caging.object_reach_radius = 0.01;
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.02;
+  caging.xz_thresh = 0.03;
+  caging.desired_gripper_effort = 0.1;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+  const double in_place =
+      LongTailTolerance(obj_to_target, 0.0, 0.02, Distance(s.obj_init, s.goal));
+
+  const bool held = tcp_to_obj < 0.04 && s.gripper_opening >= 0.33 &&
+                    s.obj[2] - 0.02 > s.obj_init[2];
+  RewardTerms terms;
+  terms.reward = HamacherProduct(grasped, in_place);
+  if (held) terms.reward += 1.0 + 5.0 * HamacherProduct(in_place, above_floor);
+  if (obj_to_target < 0.05) terms.reward = 10.0;
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = held ? 1.0 : 0.0;
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PickOutOfHoleScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                      std::span<float> action) {
+  const SawyerObs o(env_obs);
+  // Straight up to 5 cm above the top (or the goal's height), then across.
+  GraspAndCarryOver(o, o.goal, std::max(0.13, o.goal[2]), 0.02, action);
+}
+
+}  // namespace manyworlds::manipulation
