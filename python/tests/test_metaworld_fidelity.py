@@ -34,7 +34,8 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "soccer",
             "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock",
             "coffee-button", "coffee-push", "coffee-pull",
-            "hand-insert", "pick-out-of-hole"]
+            "hand-insert", "pick-out-of-hole",
+            "bin-picking", "box-close"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

@@ -30,7 +30,8 @@ OBJ_TO_TARGET_INIT = {"button-press-topdown": "_obj_to_target_init",
                       "button-press": "_obj_to_target_init",
                       "button-press-wall": "_obj_to_target_init",
                       "button-press-topdown-wall": "_obj_to_target_init",
-                      "coffee-button": "max_dist"}
+                      "coffee-button": "max_dist",
+                      "bin-picking": "_target_to_obj_init"}
 
 
 # Reward version v1: the attribute holding each task's normaliser (v3 sets it at reset).

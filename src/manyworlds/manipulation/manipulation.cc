@@ -8,6 +8,8 @@
 #include "manyworlds/manipulation/button_press_topdown.h"
 #include "manyworlds/manipulation/coffee/coffee_button.h"
 #include "manyworlds/manipulation/coffee/coffee_mug.h"
+#include "manyworlds/manipulation/container/bin_picking.h"
+#include "manyworlds/manipulation/container/box_close.h"
 #include "manyworlds/manipulation/door_close.h"
 #include "manyworlds/manipulation/door_open.h"
 #include "manyworlds/manipulation/drawer_close.h"
@@ -97,6 +99,8 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<CoffeePull, CoffeeMugScriptedPolicy>(),
       Entry<HandInsert, HandInsertScriptedPolicy>(),
       Entry<PickOutOfHole, PickOutOfHoleScriptedPolicy>(),
+      Entry<BinPicking, BinPickingScriptedPolicy>(),
+      Entry<BoxClose, BoxCloseScriptedPolicy>(),
   };
   return tasks;
 }

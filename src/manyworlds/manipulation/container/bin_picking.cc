@@ -1,0 +1,82 @@
+#include "manyworlds/manipulation/container/bin_picking.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr double kTargetRadius = 0.05;
+
+}  // namespace
+
+SawyerTaskConfig BinPicking::Config() {
+  SawyerTaskConfig config;
+  config.id = "bin-picking";
+  config.description = "Sawyer arm: pick a cube out of one bin and put it in the other";
+  config.xml_file = "bin_picking.xml";
+  config.hand_low = {-0.5, 0.40, 0.07};
+  config.obj_low = {-0.21, 0.65, 0.03};
+  config.obj_high = {-0.03, 0.75, 0.03};
+  config.goal_low = {0.12, 0.7, 0.0};
+  config.goal_high = {0.12, 0.7, 0.0};
+  config.min_obj_goal_xy = 0.0;  // v3 draws no separation (the bins are apart)
+  config.obj_quat = QuatLayout::kWxyz;
+  return config;
+}
+
+BinPicking::BinPicking(SawyerOptions options) : SawyerTask(Config(), options) {}
+
+void BinPicking::InitTaskState(SawyerState& s) const {
+  s.obj_to_target_init = Distance(s.obj, s.goal);
+}
+
+RewardTerms BinPicking::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const double in_place =
+      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, s.obj_to_target_init);
+  const auto funnel = [&s](const Vec3& centre) {
+    return FunnelFloor(std::hypot(s.hand[0] - centre[0], s.hand[1] - centre[1]), 0.03, 0.02, 0.2);
+  };
+  const double floor = std::min(funnel(s.obj_init), funnel(s.goal));
+  const double above_floor = AboveFloor(s.hand[2], floor, 0.05);
+  CagingParams caging;
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.05;
+  caging.object_reach_radius = 0.01;
+  caging.xz_thresh = 0.01;
+  caging.desired_gripper_effort = 0.7;
+  caging.high_density = true;
+  const double grasped = CageObject(s, s.obj, action[3], caging);
+
+  const bool near = Distance(s.obj, s.hand) < 0.04;
+  const bool held = near && s.gripper_opening >= 0.43 && s.obj[2] - 0.02 > s.obj_init[2];
+  RewardTerms terms;
+  terms.reward = HamacherProduct(grasped, in_place);
+  if (held) terms.reward += 1.0 + 5.0 * HamacherProduct(above_floor, in_place);
+  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = near ? 1.0 : 0.0;
+  terms.grasp_success = held ? 1.0 : 0.0;
+  terms.grasp_reward = grasped;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void BinPickingScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                                   std::span<float> action) {
+  SawyerObs o(env_obs);
+  // Bin A's y walls are 4 cm from the cube's centre at the range's ends; the
+  // open fingers reach 5.5 cm. Grip at most 2.5 cm from the bin's centre
+  // line in y: the closing fingers drag the cube there.
+  o.obj1[1] = std::clamp(o.obj1[1], 0.675, 0.725);
+  // The cube's bottom 3 cm over the walls (centre 0.11), then down to bin
+  // B's floor.
+  GraspAndCarryOver(o, {o.goal[0], o.goal[1], 0.03}, 0.11, 0.01, action);
+}
+
+}  // namespace manyworlds::manipulation
