@@ -42,7 +42,13 @@ V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "ma
                "door-close": "maxPullDist", "lever-pull": "maxPullDist",
                "reach-wall": "maxReachDist", "push-wall": "maxPushDist",
                "push-back": "maxPushDist", "soccer": "maxPushDist", "sweep": "maxPushDist",
-               "sweep-into": "maxPushDist"}
+               "sweep-into": "maxPushDist", "basketball": "maxPlacingDist",
+               "shelf-place": "maxPlacingDist", "pick-place-wall": "maxPlacingDist",
+               "plate-slide": "maxDist", "plate-slide-side": "maxDist",
+               "plate-slide-back": "maxDist", "plate-slide-back-side": "maxDist",
+               "faucet-open": "maxPullDist", "faucet-close": "maxPullDist",
+               "dial-turn": "maxPullDist", "door-lock": "maxPullDist",
+               "door-unlock": "maxPullDist"}
 
 
 def v1_fields(env, task):

@@ -1,9 +1,11 @@
 #include "manyworlds/manipulation/basketball.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -32,6 +34,7 @@ SawyerTaskConfig Basketball::Config() {
   config.goal_low = {-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]};
   config.goal_high = {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]};
   config.min_obj_goal_xy = 0.0;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -71,6 +74,22 @@ RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_success = s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2] ? 1.0 : 0.0;
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void Basketball::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], 0.3);  // v3's liftThresh
+}
+
+RewardTerms Basketball::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], obj_to_target, obj_to_target, 2.0);
+  RewardTerms terms;
+  terms.reward = v.reward;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
+  terms.success = obj_to_target <= 0.08;
+  terms.near_object = 1.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

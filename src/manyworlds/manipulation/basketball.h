@@ -15,6 +15,9 @@
 //   info: success |obj - goal| <= 0.08; near_object |tcp - obj| <= 0.03;
 //     grasp_success = touching, opening > 0 and lifted 2 cm;
 //     grasp_reward = grasped; in_place_reward; obj_to_target = |obj - goal|.
+//   v1: as pick-place's (v1::PickPlace, lift target 0.3 m above the
+//     object's start); info from v1's zeros: success |obj - goal| <= 0.08,
+//     near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_BASKETBALL_H_
 #define MANYWORLDS_MANIPULATION_BASKETBALL_H_
 
@@ -30,6 +33,9 @@ class Basketball : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
 
  private:

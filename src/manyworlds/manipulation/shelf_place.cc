@@ -5,6 +5,7 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -29,6 +30,7 @@ SawyerTaskConfig ShelfPlace::Config() {
   config.obj_high = {0.1, 0.6, kHalfBlock};
   config.goal_low = {-0.1, 0.8, kGoalHeight};
   config.goal_high = {0.1, 0.9, kGoalHeight};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -76,6 +78,22 @@ RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_success = GraspSuccess(s);
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void ShelfPlace::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], 0.04);  // v3's liftThresh
+}
+
+RewardTerms ShelfPlace::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], obj_to_target, obj_to_target, 2.0);
+  RewardTerms terms;
+  terms.reward = v.reward;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = 1.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

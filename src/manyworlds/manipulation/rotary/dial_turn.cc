@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/rotary/rotary.h"
 
 namespace manyworlds::manipulation {
@@ -30,6 +31,7 @@ SawyerTaskConfig DialTurn::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "dial_base";
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -40,6 +42,19 @@ DialTurn::DialTurn(SawyerOptions options)
 void DialTurn::InitTaskState(SawyerState& state) const {
   ArticulatedTask::InitTaskState(state);
   state.handle_init = PushPoint(state.obj);
+  state.v1_max_dist = std::abs(state.goal[1] - state.obj_init[1]);  // v3's maxPullDist
+}
+
+RewardTerms DialTurn::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.grasp_success = 1.0;
+  terms.obj_to_target = pull_dist;
+  return terms;
 }
 
 RewardTerms DialTurn::ComputeReward(const SawyerState& s, std::span<const float> action) const {

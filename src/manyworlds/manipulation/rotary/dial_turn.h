@@ -15,6 +15,9 @@
 //     as in v3); near_object |push - tcp| <= 0.01; grasp_success 1;
 //     grasp_reward reach; in_place_reward in_place; obj_to_target |obj - goal|.
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1: reward = -|tcp - obj| + max(progress(|obj.y - goal.y|), 0) within
+//     5 cm, max_dist = |goal.y - obj_init.y| (maxPullDist); info from v1's
+//     zeros: success <= 0.07, near_object 1, grasp_success 1.
 #ifndef MANYWORLDS_MANIPULATION_ROTARY_DIAL_TURN_H_
 #define MANYWORLDS_MANIPULATION_ROTARY_DIAL_TURN_H_
 
@@ -32,6 +35,8 @@ class DialTurn : public ArticulatedTask {
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
   // handle_init = v3's dial_push_position at reset (the object point + (0.05, 0.02, 0.09)).
   void InitTaskState(SawyerState& state) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
 };
 
 // Pushes the dial's ridge clockwise with the closed gripper.

@@ -6,6 +6,7 @@
 
 #include "manyworlds/manipulation/door_fixture.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/rotary/rotary.h"
 
 namespace manyworlds::manipulation {
@@ -69,6 +70,18 @@ DoorLockTask::DoorLockTask(SawyerTaskConfig config, FixtureSpec fixture, SawyerO
 void DoorLockTask::InitTaskState(SawyerState& state) const {
   ArticulatedTask::InitTaskState(state);
   for (int i = 0; i < 3; ++i) state.obj_init[i] = obj_pos()[i] + kLockAxis[i];
+  state.v1_max_dist = Distance(state.goal, state.obj_init);  // v3's maxPullDist
+}
+
+RewardTerms DoorLockTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = Distance(s.obj, s.goal);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kSuccess;
+  terms.near_object = 1.0;
+  terms.obj_to_target = pull_dist;
+  return terms;
 }
 
 SawyerTaskConfig DoorLock::Config() {
@@ -76,6 +89,7 @@ SawyerTaskConfig DoorLock::Config() {
   config.id = "door-lock";
   config.description = "Sawyer arm: turn a door's lock down";
   UseGoalOffset(kLockGoal, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -104,6 +118,7 @@ SawyerTaskConfig DoorUnlock::Config() {
   config.id = "door-unlock";
   config.description = "Sawyer arm: turn a door's lock back up";
   UseGoalOffset(kUnlockGoal, config);
+  config.has_reward_v1 = true;
   return config;
 }
 

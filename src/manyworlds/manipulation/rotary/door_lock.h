@@ -42,6 +42,11 @@ class DoorLockTask : public ArticulatedTask {
   DoorLockTask(SawyerTaskConfig config, FixtureSpec fixture, SawyerOptions options);
   // obj_init = the lock's axis point.
   void InitTaskState(SawyerState& state) const override;
+  // v1 (both tasks): -|tcp - obj| + max(progress(|obj - goal|), 0) within
+  // 5 cm, max_dist = |goal - obj_init| (maxPullDist); info from v1's zeros:
+  // success <= 0.02, near_object 1, grasp_success 0.
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
 };
 
 class DoorLock : public DoorLockTask {

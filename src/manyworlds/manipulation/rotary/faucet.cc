@@ -1,7 +1,9 @@
 #include "manyworlds/manipulation/rotary/faucet.h"
 
+#include <algorithm>
 #include <cmath>
 
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/rotary/rotary.h"
 
 namespace manyworlds::manipulation {
@@ -29,6 +31,7 @@ SawyerTaskConfig BaseConfig(double side) {
   config.hand_high = {0.5, 1.0, 0.5};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "faucet_base";
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -47,6 +50,20 @@ RewardTerms FaucetReward(const SawyerState& s, const Vec3& p) {
   terms.grasp_reward = reach;
   terms.in_place_reward = in_place;
   terms.obj_to_target = target_to_obj;
+  return terms;
+}
+
+void FaucetInitV1(SawyerState& s) { s.v1_max_dist = Distance(s.goal, s.obj_init); }
+
+RewardTerms FaucetRewardV1(const SawyerState& s) {
+  const double pull_dist = Distance(s.obj, s.goal);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.grasp_success = 1.0;
+  terms.obj_to_target = pull_dist;
   return terms;
 }
 
@@ -84,6 +101,24 @@ FaucetClose::FaucetClose(SawyerOptions options)
 
 RewardTerms FaucetClose::ComputeReward(const SawyerState& s, std::span<const float>) const {
   return FaucetReward(s, s.obj);
+}
+
+void FaucetOpen::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  FaucetInitV1(s);
+}
+
+RewardTerms FaucetOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return FaucetRewardV1(s);
+}
+
+void FaucetClose::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  FaucetInitV1(s);
+}
+
+RewardTerms FaucetClose::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return FaucetRewardV1(s);
 }
 
 void FaucetScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -17,6 +17,9 @@
 //     rad closed, as in v3); near_object |p - tcp| <= 0.01; grasp_success 1;
 //     grasp_reward reach; in_place_reward in_place; obj_to_target |p - goal|.
 //   (tol: long-tail tolerance; obj_init = obj_pos, v3's obj_init_pos.)
+//   v1 (both): reward = -|tcp - obj| + max(progress(|obj - goal|), 0) within
+//     5 cm, max_dist = |goal - obj_init| (maxPullDist); info from v1's
+//     zeros: success <= 0.07, near_object 1, grasp_success 1.
 #ifndef MANYWORLDS_MANIPULATION_ROTARY_FAUCET_H_
 #define MANYWORLDS_MANIPULATION_ROTARY_FAUCET_H_
 
@@ -32,6 +35,9 @@ class FaucetOpen : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 class FaucetClose : public ArticulatedTask {
@@ -41,6 +47,9 @@ class FaucetClose : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Pushes the handle's grip round from its trailing side with the closed

@@ -1,8 +1,11 @@
 #include "manyworlds/manipulation/slide/plate_slide.h"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/slide/push_from_behind.h"
 #include "manyworlds/sim/ids.h"
 
@@ -23,6 +26,7 @@ SawyerTaskConfig PlateConfig(const char* id, const char* description, const char
   config.goal_low = goal_low;
   config.goal_high = goal_high;
   config.min_obj_goal_xy = 0.0;  // v3 draws without a rule
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -47,6 +51,21 @@ void PlateSlideTask::PlaceObjects(mjModel* m, mjData* d) {
     }
   }
   PlaceFixture(m, frame_, variant_.frame_at_goal ? goal_pos() : variant_.frame);
+}
+
+void PlateSlideTask::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+}
+
+RewardTerms PlateSlideTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double pull_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
+  terms.success = pull_dist <= 0.07;
+  terms.near_object = 1.0;
+  terms.obj_to_target = pull_dist;
+  return terms;
 }
 
 RewardTerms PlateSlideTask::ComputeReward(const SawyerState& s, std::span<const float>) const {

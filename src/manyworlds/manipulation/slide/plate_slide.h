@@ -19,6 +19,9 @@
 //     within 0.05.
 //   info (all): success |plate - goal| <= 0.07; near_object tcp within
 //     0.03; grasp_success 0; grasp_reward g.
+//   v1 (all four): reward = -|tcp - obj| + max(progress(xy distance to the
+//     goal), 0) within 5 cm, max_dist = that distance at reset (maxDist);
+//     info from v1's zeros: success <= 0.07, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_SLIDE_PLATE_SLIDE_H_
 #define MANYWORLDS_MANIPULATION_SLIDE_PLATE_SLIDE_H_
 
@@ -39,6 +42,9 @@ class PlateSlideTask : public SawyerTask {
  protected:
   PlateSlideTask(SawyerTaskConfig config, PlateSlideVariant variant, SawyerOptions options);
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
 
  private:

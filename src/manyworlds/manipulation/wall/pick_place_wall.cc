@@ -1,6 +1,10 @@
 #include "manyworlds/manipulation/wall/pick_place_wall.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/wall/wall.h"
 
 namespace manyworlds::manipulation {
@@ -10,6 +14,7 @@ SawyerTaskConfig PickPlaceWall::Config() {
   config.id = "pick-place-wall";
   config.description = "Sawyer arm: carry a puck over a wall to a goal in the air";
   config.xml_file = "pick_place_wall.xml";
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -46,6 +51,22 @@ RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const f
   terms.grasp_success = GraspSuccess(s);
   terms.grasp_reward = grasped;
   terms.in_place_reward = to_goal;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PickPlaceWall::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], 0.04);  // v3's liftThresh
+}
+
+RewardTerms PickPlaceWall::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], obj_to_target, obj_to_target, 2.0);
+  RewardTerms terms;
+  terms.reward = v.reward;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = 1.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

@@ -7,6 +7,9 @@
 //     lifted 1.5 cm) H(g, m) + 1 + 4 m, and once past y 0.75
 //     H(g, m) + 5 + 3 tol(|puck - goal|, (0, 0.05)); 10 within 0.05.
 //   info: success |puck - goal| <= 0.07; in_place_reward = the goal term.
+//   v1: as pick-place's (v1::PickPlace, lift target 0.04 m above the
+//     object's start); info from v1's zeros: success |obj - goal| <= 0.07,
+//     near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_WALL_PICK_PLACE_WALL_H_
 #define MANYWORLDS_MANIPULATION_WALL_PICK_PLACE_WALL_H_
 
@@ -22,6 +25,9 @@ class PickPlaceWall : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the puck, lifts it over the wall, carries it to the goal.
