@@ -35,7 +35,8 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock",
             "coffee-button", "coffee-push", "coffee-pull",
             "hand-insert", "pick-out-of-hole",
-            "bin-picking", "box-close"]
+            "bin-picking", "box-close",
+            "assembly", "disassemble", "peg-unplug-side"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

@@ -73,9 +73,11 @@ def state_record(env, obs, task=None):
         "hand_init": vec(env.hand_init_pos),
         "gripper_opening": float(obs[3]),
         "touching_obj": touching(env),
-        # peg-insert-side (pegHead), stick-pull (stick_end)
+        # peg-insert-side (pegHead), stick-pull (stick_end), assembly and disassemble (RoundNut)
         "obj_head": (vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else
-                     vec(env._get_site_pos("stick_end")) if task == "stick-pull" else [0.0] * 3),
+                     vec(env._get_site_pos("stick_end")) if task == "stick-pull" else
+                     vec(env._get_site_pos("RoundNut")) if task in ("assembly", "disassemble") else
+                     [0.0] * 3),
         "obj_head_init": vec(getattr(env, "peg_head_pos_init", np.zeros(3))),
         # articulated tasks
         "joint_qpos": (float(env.data.joint(JOINT_QPOS[task]).qpos.item())

@@ -17,6 +17,8 @@
 #include "manyworlds/manipulation/hole/hand_insert.h"
 #include "manyworlds/manipulation/hole/pick_out_of_hole.h"
 #include "manyworlds/manipulation/lever_pull.h"
+#include "manyworlds/manipulation/peg/nut.h"
+#include "manyworlds/manipulation/peg/peg_unplug_side.h"
 #include "manyworlds/manipulation/peg_insert_side.h"
 #include "manyworlds/manipulation/pick_place.h"
 #include "manyworlds/manipulation/push.h"
@@ -101,6 +103,9 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<PickOutOfHole, PickOutOfHoleScriptedPolicy>(),
       Entry<BinPicking, BinPickingScriptedPolicy>(),
       Entry<BoxClose, BoxCloseScriptedPolicy>(),
+      Entry<Assembly, AssemblyScriptedPolicy>(),
+      Entry<Disassemble, DisassembleScriptedPolicy>(),
+      Entry<PegUnplugSide, PegUnplugSideScriptedPolicy>(),
   };
   return tasks;
 }
