@@ -36,7 +36,8 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "coffee-button", "coffee-push", "coffee-pull",
             "hand-insert", "pick-out-of-hole",
             "bin-picking", "box-close",
-            "assembly", "disassemble", "peg-unplug-side"]
+            "assembly", "disassemble", "peg-unplug-side",
+            "hammer", "stick-push", "stick-pull"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"

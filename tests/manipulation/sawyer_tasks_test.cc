@@ -214,7 +214,13 @@ TEST_P(SawyerTaskTest, ObservationMatchesSimulator) {
         for (int i = 0; i < 4; ++i) EXPECT_EQ(o[kObsObj1Quat + i], 0.0f);
         break;
     }
-    for (int i = kObsObj2Pos; i < kObsFrame; ++i) EXPECT_EQ(o[i], 0.0f);
+    // obs[11:18]: the second object (the tool-use tasks; its place is
+    // checked in tool_test.cc) as the record holds it, else zeros.
+    const Vec3& obj2 = task().state().obj2;
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(o[kObsObj2Pos + i], static_cast<float>(obj2[i]));
+    if (obj2 == Vec3{}) {
+      for (int i = kObsObj2Quat; i < kObsFrame; ++i) EXPECT_EQ(o[i], 0.0f);
+    }
     for (int i = 0; i < kObsFrame; ++i) EXPECT_EQ(o[kObsPrev + i], previous[i]);
   }
 }

@@ -22,7 +22,8 @@ import numpy as np
 
 # Articulated tasks: where v3 keeps the fixture quantities its reward reads; the record holds
 # neutral zeros for tasks that have none.
-JOINT_QPOS = {"door-open": "doorjoint", "door-close": "doorjoint", "lever-pull": "LeverAxis"}
+JOINT_QPOS = {"door-open": "doorjoint", "door-close": "doorjoint", "lever-pull": "LeverAxis",
+              "hammer": "NailSlideJoint"}
 HANDLE_INIT = {"window-open": "window_handle_pos_init", "window-close": "window_handle_pos_init",
                "lever-pull": "_lever_pos_init", "dial-turn": "dial_push_position",
                "handle-press": "_handle_init_pos", "handle-press-side": "_handle_init_pos"}
@@ -68,7 +69,8 @@ def state_record(env, obs, task=None):
         "right_pad": vec(env.get_body_com("rightpad")),
         "obj": vec(obs[4:7]),
         "goal": vec(env._target_pos),
-        "obj_init": vec(env.obj_init_pos),
+        # the stick tasks keep the stick's start apart (obj_init_pos is the thermos's base there)
+        "obj_init": vec(env.stick_init_pos if task in ("stick-push", "stick-pull") else env.obj_init_pos),
         "tcp_init": vec(env.init_tcp),
         "hand_init": vec(env.hand_init_pos),
         "gripper_opening": float(obs[3]),

@@ -34,6 +34,8 @@
 #include "manyworlds/manipulation/slide/push_back.h"
 #include "manyworlds/manipulation/slide/soccer.h"
 #include "manyworlds/manipulation/sweep_into.h"
+#include "manyworlds/manipulation/tool/hammer.h"
+#include "manyworlds/manipulation/tool/stick.h"
 #include "manyworlds/manipulation/wall/pick_place_wall.h"
 #include "manyworlds/manipulation/wall/push_wall.h"
 #include "manyworlds/manipulation/wall/reach_wall.h"
@@ -106,6 +108,9 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<Assembly, AssemblyScriptedPolicy>(),
       Entry<Disassemble, DisassembleScriptedPolicy>(),
       Entry<PegUnplugSide, PegUnplugSideScriptedPolicy>(),
+      Entry<Hammer, HammerScriptedPolicy>(),
+      Entry<StickPush, StickPushScriptedPolicy>(),
+      Entry<StickPull, StickPullScriptedPolicy>(),
   };
   return tasks;
 }

@@ -114,7 +114,7 @@ struct SawyerState {
   Vec3 right_pad{};
   Vec3 obj{};        // obs[4:7], the task's object point [_get_pos_objects()]
   Vec3 goal{};       // [_target_pos]
-  Vec3 obj_init{};   // obj at reset [obj_init_pos]
+  Vec3 obj_init{};   // obj at reset [obj_init_pos; stick_init_pos (stick-push, stick-pull)]
   Vec3 tcp_init{};   // tcp at reset [init_tcp]
   Vec3 hand_init{};  // the configured hand start [hand_init_pos]
   double gripper_opening = 0;  // obs[3]
@@ -125,7 +125,8 @@ struct SawyerState {
   // articulated tasks (zeros where a task has no such quantity)
   // The fixture joint in Meta-World's sign convention: the door hinge,
   // negative when open toward the robot [doorjoint qpos]; the lever, -pi/2
-  // when pointing up [LeverAxis qpos].
+  // when pointing up [LeverAxis qpos]; the nail, driven in (hammer)
+  // [NailSlideJoint qpos].
   double joint_qpos = 0;
   // The object point at reset [window_handle_pos_init (window-open,
   // window-close); _lever_pos_init (lever-pull)].

@@ -1,0 +1,124 @@
+#include "manyworlds/manipulation/tool/hammer.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/sim/ids.h"
+
+namespace manyworlds::manipulation {
+namespace {
+
+constexpr Vec3 kGoal{0.24, 0.74, 0.11};       // v3's site "goal" on its fixed box
+constexpr Vec3 kHeadOffset{0.16, 0.06, 0.0};  // v3's hammer_head - hammer
+constexpr double kHandleHalfLength = 0.07;    // v3's HAMMER_HANDLE_LENGTH / 2
+constexpr double kDrivenIn = 0.09;
+// The rest pose on the table (head and handle end down): height of the
+// handle's centre and tilt about y (head up), as v3's hammer settles.
+constexpr double kRestHeight = 0.0284;
+constexpr double kRestTilt = 0.0601;
+// Our hammer's centre of mass along the handle from its centre (the grip).
+constexpr double kGrip = 0.04;
+
+}  // namespace
+
+SawyerTaskConfig Hammer::Config() {
+  SawyerTaskConfig config;
+  config.id = "hammer";
+  config.description = "Sawyer arm: hammer a nail into a block";
+  config.xml_file = "hammer.xml";
+  config.hand_init = {0.0, 0.4, 0.2};
+  config.obj_low = {-0.1, 0.4, 0.0};
+  config.obj_high = {0.1, 0.5, 0.0};
+  config.goal_low = {0.2399, 0.7399, 0.109};
+  config.goal_high = {0.2401, 0.7401, 0.111};
+  config.min_obj_goal_xy = 0.0;
+  config.obj_quat = QuatLayout::kWxyz;
+  return config;
+}
+
+Hammer::Hammer(SawyerOptions options) : SawyerTask(Config(), options) {
+  const sim::IdLookup ids(model(), config().xml_file);
+  obj_qpos_ = ids.QposAddress("obj_free");
+  obj_dof_ = ids.DofAddress("obj_free");
+  nail_body_ = ids.Body("nail");
+  nail_qpos_ = ids.QposAddress("nail_slide");
+  nail_dof_ = ids.DofAddress("nail_slide");
+}
+
+Vec3 Hammer::DeriveGoal(const Vec3&, const Vec3&) const { return kGoal; }
+
+void Hammer::PlaceObjects(mjModel*, mjData* d) {
+  const mjtNum rest[7] = {obj_pos()[0], obj_pos()[1], kRestHeight, std::cos(kRestTilt / 2), 0,
+                          -std::sin(kRestTilt / 2), 0};
+  mju_copy(d->qpos + obj_qpos_, rest, 7);
+  mju_zero(d->qvel + obj_dof_, 6);
+  d->qpos[nail_qpos_] = 0;
+  d->qvel[nail_dof_] = 0;
+}
+
+void Hammer::RefreshTaskState(const mjData* d, SawyerState& state) const {
+  state.joint_qpos = d->qpos[nail_qpos_];
+  const mjtNum* nail = d->xpos + 3 * nail_body_;
+  state.obj2 = {nail[0], nail[1], nail[2]};
+}
+
+void Hammer::WriteObject2(const mjData* d, float* pos_quat) const {
+  for (int i = 0; i < 3; ++i) pos_quat[i] = static_cast<float>(state().obj2[i]);
+  for (int i = 0; i < 4; ++i) pos_quat[3 + i] = static_cast<float>(d->xquat[4 * nail_body_ + i]);
+}
+
+RewardTerms Hammer::ComputeReward(const SawyerState& s, std::span<const float> action) const {
+  Vec3 threshed = s.obj;
+  if (std::abs(s.obj[0] - s.hand[0]) < kHandleHalfLength) threshed[0] = s.hand[0];
+  double quat_error = 0;
+  const double level[4] = {1, 0, 0, 0};
+  for (int i = 0; i < 4; ++i) quat_error += (s.obj_quat[i] - level[i]) * (s.obj_quat[i] - level[i]);
+  const double level_reward = std::max(1.0 - std::sqrt(quat_error) / 0.4, 0.0);
+  CagingParams caging;
+  caging.obj_radius = 0.015;
+  caging.pad_success_thresh = 0.02;
+  caging.object_reach_radius = 0.01;
+  caging.xz_thresh = 0.01;
+  caging.high_density = true;
+  const double grab = CageObject(s, threshed, action[3], caging);
+  const Vec3 head{s.obj[0] + kHeadOffset[0], s.obj[1] + kHeadOffset[1], s.obj[2] + kHeadOffset[2]};
+  const double in_place = 0.1 * (head[2] > 0.02 ? 1.0 : 0.0) +
+                          0.9 * LongTailTolerance(Distance(s.goal, head), 0.0, 0.02, 0.2);
+
+  RewardTerms terms;
+  terms.reward = (2.0 * grab + 6.0 * in_place) * level_reward;
+  terms.success = s.joint_qpos > kDrivenIn;
+  if (terms.success && terms.reward > 5.0) terms.reward = 10.0;
+  terms.near_object = level_reward;
+  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
+  terms.grasp_reward = grab;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = 0.0;
+  return terms;
+}
+
+void HammerScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
+                               std::span<float> action) {
+  SawyerObs o(env_obs);
+  const Vec3 hammer = o.obj1;
+  const Vec3 nail{env_obs[kObsObj2Pos], env_obs[kObsObj2Pos + 1], env_obs[kObsObj2Pos + 2]};
+  // Grip and steer by the handle's point above the centre of mass.
+  o.obj1 = {hammer[0] + kGrip, hammer[1], hammer[2]};
+  // Where the hammer's centre should go: level with the nail, the head's
+  // boss in line with it, 6 cm short of the nail's head until lined up;
+  // then up to the nail fast and through it slowly (a hard blow would turn
+  // the hammer in the grip).
+  const double head_x = kGoal[0] - kHeadOffset[0];
+  const bool lined_up =
+      std::abs(hammer[0] - head_x) < 0.01 && std::abs(hammer[2] - nail[2]) < 0.015;
+  const double touching = nail[1] - 0.072 - 0.009;  // the face's and the nail head's half-widths
+  double y = std::min(hammer[1], touching - 0.06);
+  if (lined_up) y = hammer[1] < touching - 0.015 ? touching - 0.005 : hammer[1] + 0.01;
+  GraspParams params;
+  params.closed_on_object = 0.5;
+  GraspAndCarry(o, {head_x + kGrip, y, nail[2]}, action, params);
+}
+
+}  // namespace manyworlds::manipulation
