@@ -81,6 +81,7 @@ SawyerState ReadRecord(const py::dict& record) {
   s.v1_max_dist = record["v1_max_dist"].cast<double>();
   s.v1_obj_height = record["v1_obj_height"].cast<double>();
   s.v1_height_target = record["v1_height_target"].cast<double>();
+  s.left_finger = ReadVec3(record, "left_finger");
   return s;
 }
 
@@ -134,6 +135,7 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["v1_max_dist"] = s.v1_max_dist;
   out["v1_obj_height"] = s.v1_obj_height;
   out["v1_height_target"] = s.v1_height_target;
+  out["left_finger"] = vec(s.left_finger);
   return out;
 }
 #endif

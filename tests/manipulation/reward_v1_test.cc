@@ -53,7 +53,10 @@ TEST(RewardV1Test, StepsReportTheV1RewardOfTheirStateRecord) {
     env->SeedTask(3);
     env->ResetTaskState();
     env->Reset();
-    EXPECT_GT(task->state().v1_max_dist, 0.0) << id << ": the normaliser is set at reset";
+    // (button-press-wall's is 0, as v3's: it compares the button's and the goal's heights)
+    if (id != "button-press-wall") {
+      EXPECT_GT(task->state().v1_max_dist, 0.0) << id << ": the normaliser is set at reset";
+    }
     const std::vector<float> action{0.3f, 0.5f, -0.2f, 0.4f};
     double largest = 0;
     for (int t = 0; t < 20; ++t) {

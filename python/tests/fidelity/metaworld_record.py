@@ -49,14 +49,18 @@ V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "ma
                "plate-slide-back": "maxDist", "plate-slide-back-side": "maxDist",
                "faucet-open": "maxPullDist", "faucet-close": "maxPullDist",
                "dial-turn": "maxPullDist", "door-lock": "maxPullDist",
-               "door-unlock": "maxPullDist"}
+               "door-unlock": "maxPullDist", "button-press-topdown-wall": "maxDist",
+               "button-press": "maxDist", "button-press-wall": "maxDist",
+               "handle-press": "maxDist", "handle-press-side": "maxDist",
+               "handle-pull": "maxDist", "handle-pull-side": "maxDist"}
 
 
 def v1_fields(env, task):
     """The v1 reward's reset-time quantities (zeros where the task's v1 reads none)."""
     value = lambda name: float(np.asarray(getattr(env, name, 0.0), dtype=np.float64))
     return {"v1_max_dist": value(V1_MAX_DIST[task]) if task in V1_MAX_DIST else 0.0,
-            "v1_obj_height": value("objHeight"), "v1_height_target": value("heightTarget")}
+            "v1_obj_height": value("objHeight"), "v1_height_target": value("heightTarget"),
+            "left_finger": [float(x) for x in env._get_site_pos("leftEndEffector")]}
 
 
 def state_record(env, obs, task=None):

@@ -295,7 +295,7 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
                         &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init,
                         &state.obj_head, &state.obj_head_init, &state.handle_init,
-                        &state.obj2, &state.obj2_init}) {
+                        &state.obj2, &state.obj2_init, &state.left_finger}) {
     for (double x : *v) {
       if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
     }
@@ -324,6 +324,7 @@ void SawyerTask::RefreshState() {
   state_.hand = ToVec3(d->site_xpos + 3 * hand_site_);
   state_.left_pad = ToVec3(d->site_xpos + 3 * left_pad_site_);
   state_.right_pad = ToVec3(d->site_xpos + 3 * right_pad_site_);
+  state_.left_finger = state_.left_pad;
   for (int i = 0; i < 3; ++i) state_.tcp[i] = 0.5 * (state_.left_pad[i] + state_.right_pad[i]);
   state_.obj = ToVec3(d->xpos + 3 * obj_body_);
   state_.goal = goal_pos_;

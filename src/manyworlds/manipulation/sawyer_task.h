@@ -150,6 +150,10 @@ struct SawyerState {
   double v1_max_dist = 0;
   double v1_obj_height = 0;
   double v1_height_target = 0;
+  // The left finger's tip [site leftEndEffector], which v1's button and
+  // handle rewards read in place of the tcp. Ours is the left pad's site
+  // (the same point as left_pad); in v3 it differs from the pad's centre.
+  Vec3 left_finger{};
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
@@ -160,7 +164,7 @@ inline constexpr const char* kSawyerStateFields[] = {
     "joint_qpos", "handle_init", "obj_to_target_init",  // articulated tasks
     "obj_quat",
     "obj2", "obj2_init",  // tool-use tasks
-    "v1_max_dist", "v1_obj_height", "v1_height_target"};  // reward version v1
+    "v1_max_dist", "v1_obj_height", "v1_height_target", "left_finger"};  // reward version v1
 
 // One step's reward and info values.
 struct RewardTerms {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "manyworlds/manipulation/reward_v1.h"
+
 namespace manyworlds::manipulation {
 namespace {
 
@@ -55,6 +57,18 @@ void FrontButtonTask::InitTaskState(SawyerState& s) const {
   s.obj_to_target_init = kObjToTargetInit;
 }
 
+// v1's button reward: the left finger's tip (not the tcp) reaches the button.
+RewardTerms FrontButtonRewardV1(const SawyerState& s, double success_radius) {
+  const double press_dist = std::abs(s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.left_finger), s.v1_max_dist, press_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
+  terms.success = press_dist <= success_radius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = press_dist;
+  return terms;
+}
+
 SawyerTaskConfig ButtonPress::Config() {
   SawyerTaskConfig config = BaseConfig();
   config.id = "button-press";
@@ -63,6 +77,7 @@ SawyerTaskConfig ButtonPress::Config() {
   config.obj_low = {-0.1, 0.85, 0.115};
   config.obj_high = {0.1, 0.9, 0.115};
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -70,6 +85,15 @@ ButtonPress::ButtonPress(SawyerOptions options) : FrontButtonTask(Config(), opti
 
 RewardTerms ButtonPress::ComputeReward(const SawyerState& s, std::span<const float>) const {
   return ButtonPressReward(s);
+}
+
+void ButtonPress::InitTaskState(SawyerState& s) const {
+  FrontButtonTask::InitTaskState(s);
+  s.v1_max_dist = s.obj_to_target_init;  // v3's maxDist: |buttonStart.y - goal.y|, the same
+}
+
+RewardTerms ButtonPress::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return FrontButtonRewardV1(s, 0.02);
 }
 
 RewardTerms ButtonPressReward(const SawyerState& s) {
@@ -95,10 +119,21 @@ SawyerTaskConfig ButtonPressWall::Config() {
   config.obj_low = {-0.05, 0.85, 0.1149};
   config.obj_high = {0.05, 0.9, 0.1151};
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
 ButtonPressWall::ButtonPressWall(SawyerOptions options) : FrontButtonTask(Config(), options) {}
+
+void ButtonPressWall::InitTaskState(SawyerState& s) const {
+  FrontButtonTask::InitTaskState(s);
+  // v3's maxDist here compares heights, not the press direction (0 on its table)
+  s.v1_max_dist = std::abs(s.obj[2] - s.goal[2]);
+}
+
+RewardTerms ButtonPressWall::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return FrontButtonRewardV1(s, 0.03);
+}
 
 RewardTerms ButtonPressWall::ComputeReward(const SawyerState& s, std::span<const float>) const {
   const FrontTerms t = Front(s);

@@ -30,6 +30,12 @@
 // within 0.01), + 5 pressed when |button - tcp| <= 0.03; success within
 // 0.024 of the goal's height.
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1 (button-press, button-press-wall): reward = -|left finger - obj| +
+//     max(progress(|obj.y - goal.y|), 0) within 5 cm, max_dist = the press
+//     depth at reset (maxDist; button-press-wall's reads the heights instead,
+//     as v3's); info from v1's zeros: success <= 0.02 (wall: 0.03),
+//     near_object 1, grasp_success 0. button-press-topdown-wall has
+//     button-press-topdown's v1.
 #ifndef MANYWORLDS_MANIPULATION_PRESS_BUTTONS_H_
 #define MANYWORLDS_MANIPULATION_PRESS_BUTTONS_H_
 
@@ -55,6 +61,9 @@ class ButtonPress : public FrontButtonTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // button-press's reward and info (above), from the record: also
@@ -68,6 +77,9 @@ class ButtonPressWall : public FrontButtonTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 class ButtonPressTopdownWall : public ButtonPressTopdown {

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -35,7 +36,21 @@ SawyerTaskConfig Base(const char* id, const char* description, bool side) {
   config.xml_file = side ? "handle_press_side.xml" : "handle_press.xml";
   config.hand_init = {0.0, 0.6, 0.2};
   config.obj_quat = QuatLayout::kZeros;
+  config.has_reward_v1 = true;
   return config;
+}
+
+// v1's handle reward: the left finger's tip (not the tcp) reaches the handle.
+RewardTerms HandleRewardV1(const SawyerState& s, double success_radius, double grasp_success) {
+  const double press_dist = std::abs(s.obj[2] - s.goal[2]);
+  RewardTerms terms;
+  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.left_finger), s.v1_max_dist, press_dist);
+  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
+  terms.success = press_dist <= success_radius;
+  terms.near_object = 1.0;
+  terms.grasp_success = grasp_success;
+  terms.obj_to_target = press_dist;
+  return terms;
 }
 
 Vec3 GoalOffset(bool side, double z) { return side ? Vec3{0.216, 0.0, z} : Vec3{0.0, -0.216, z}; }
@@ -113,6 +128,15 @@ RewardTerms HandlePressTask::ComputeReward(const SawyerState& s, std::span<const
   return terms;
 }
 
+void HandlePressTask::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = std::abs(s.obj[2] - s.goal[2]);  // v3's maxDist
+}
+
+RewardTerms HandlePressTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return HandleRewardV1(s, kPressRadius, 1.0);
+}
+
 SawyerTaskConfig HandlePress::Config() {
   SawyerTaskConfig config = Base("handle-press", "Sawyer arm: press a handle down", false);
   config.hand_init = kPressHandInit;
@@ -155,6 +179,17 @@ RewardTerms HandlePull::ComputeReward(const SawyerState& s, std::span<const floa
   // v3 compares the point's y with obj_init's z here: always true on its table.
   const bool bonus_ok = s.obj[1] - 0.01 > s.obj_init[2];
   return PullTerms(s, action, d, d_init, PullCaging(0.022, 0.05), bonus_ok, kPullRadius);
+}
+
+void HandlePull::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  // v3's maxDist reads handleStart's height in its body's frame (model.site pos)
+  constexpr double kV3HandleSiteLocalZ = 0.022;
+  s.v1_max_dist = std::abs(kV3HandleSiteLocalZ - s.goal[2]);
+}
+
+RewardTerms HandlePull::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return HandleRewardV1(s, kPullRadius, 0.0);
 }
 
 SawyerTaskConfig HandlePullSide::Config() {
@@ -218,6 +253,15 @@ void HandlePullScriptedPolicy::Act(std::span<const float> env_obs, std::span<con
     MoveTo(o.hand, hand_for(grasp[0], grasp[1], grasp[2]), 1.0, action);
     ++closed_steps_;
   }
+}
+
+void HandlePullSide::InitTaskState(SawyerState& s) const {
+  ArticulatedTask::InitTaskState(s);
+  s.v1_max_dist = std::abs(s.obj[2] - s.goal[2]);  // v3's maxDist
+}
+
+RewardTerms HandlePullSide::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return HandleRewardV1(s, 0.08, 0.0);
 }
 
 }  // namespace manyworlds::manipulation

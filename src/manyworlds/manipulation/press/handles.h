@@ -38,6 +38,12 @@
 //     (-side: 5.7 cm); grasp_success obs[3] > 0 and obj_z - 0.03 >
 //     obj_init_z; near_object |obj - tcp| <= 0.05; grasp_reward g.
 //   (tol: long-tail tolerance; H: Hamacher product.)
+//   v1 (all four): reward = -|left finger - obj| + max(progress(|obj.z -
+//     goal.z|), 0) within 5 cm, max_dist = that height difference at reset
+//     (maxDist; handle-pull's reads the handle site's height in its body's
+//     frame, 0.022 in v3's model, kept as v3 has it); info from v1's zeros:
+//     success <= 0.02 (press), 0.05 (handle-pull), 0.08 (handle-pull-side);
+//     near_object 1; grasp_success 1 (press) or 0 (pull).
 #ifndef MANYWORLDS_MANIPULATION_PRESS_HANDLES_H_
 #define MANYWORLDS_MANIPULATION_PRESS_HANDLES_H_
 
@@ -55,6 +61,9 @@ class HandlePressTask : public ArticulatedTask {
   HandlePressTask(SawyerTaskConfig config, FixtureSpec fixture, SawyerOptions options);
   void PlaceObjects(mjModel* m, mjData* d) override;
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 
  private:
   int joint_ = -1, qpos_ = -1;
@@ -79,6 +88,9 @@ class HandlePull : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 class HandlePullSide : public ArticulatedTask {
@@ -88,6 +100,9 @@ class HandlePullSide : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Rises over the handle, lines the closed fingers up above the object point
