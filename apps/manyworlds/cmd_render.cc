@@ -172,7 +172,9 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       "The Sawyer tasks run 80 env steps per simulated second: the defaults (--every 2, --fps "
       "40) play an episode (500 steps, 251 frames) in real time, 6.25 s. Images are rendered "
       "with OSMesa (software OpenGL) and encoded by the ffmpeg program.");
-  cmd->add_option("--env", args->env, "env id: a manipulation task or benchmark")->required();
+  cmd->add_option("--env", args->env,
+                  "env id: a manipulation task or benchmark, or box-world-simple/-complex")
+      ->required();
   cmd->add_option("--policy", args->policy, "policy: scripted, or random")->capture_default_str();
   cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")
       ->capture_default_str()
@@ -182,7 +184,8 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       ->capture_default_str()
       ->check(Unsigned());
   cmd->add_option("--camera", args->camera,
-                  "camera: front, top, side, gripper, or a camera named in the model")
+                  "camera: front, top, side, gripper, or a camera named in the model (the "
+                  "box world's: top, perspective)")
       ->capture_default_str();
   cmd->add_option("--width", args->width, "image width in pixels (even for .mp4)")
       ->capture_default_str()
