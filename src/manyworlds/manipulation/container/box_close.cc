@@ -13,8 +13,8 @@ namespace {
 constexpr double kLidRestZ = 0.016;
 // Upright: turned 90 degrees about z, (w, x, y, z) as v3 writes it.
 constexpr double kUprightQuat[4] = {0.707, 0.0, 0.0, 0.707};
-// The handle bar above the lid frame.
-constexpr double kBarAboveLid = 0.033;
+// The handle's centre above the lid frame.
+constexpr double kHandleAboveLid = 0.033;
 
 double QuatReward(const std::array<double, 4>& q) {
   double sum = 0;
@@ -46,7 +46,8 @@ BoxClose::BoxClose(SawyerOptions options) : SawyerTask(Config(), options) {
 
 void BoxClose::PlaceObjects(mjModel* m, mjData* d) {
   SawyerTask::PlaceObjects(m, d);
-  const mjtNum lid[7] = {obj_pos()[0], obj_pos()[1], kLidRestZ, std::sqrt(0.5), 0, 0, std::sqrt(0.5)};
+  const mjtNum lid[7] = {obj_pos()[0], obj_pos()[1], kLidRestZ, std::sqrt(0.5), 0, 0,
+                         std::sqrt(0.5)};
   mju_copy(d->qpos + lid_qpos_, lid, 7);
   PlaceFixture(m, box_, {goal_pos()[0], goal_pos()[1], 0.0});
 }
@@ -79,11 +80,11 @@ RewardTerms BoxClose::ComputeReward(const SawyerState& s, std::span<const float>
 void BoxCloseScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                  std::span<float> action) {
   SawyerObs o(env_obs);
-  // Grip the bar; carry the lid with its rims 2 cm over the walls (frame
+  // Grip the handle; carry the lid with its rims 2 cm over the walls (frame
   // at 0.096) to over the box, then down onto the walls (frame at 0.06).
-  o.obj1[2] += kBarAboveLid;
-  GraspAndCarryOver(o, {o.goal[0], o.goal[1], 0.06 + kBarAboveLid}, 0.096 + kBarAboveLid, 0.01,
-                    action);
+  o.obj1[2] += kHandleAboveLid;
+  GraspAndCarryOver(o, {o.goal[0], o.goal[1], 0.06 + kHandleAboveLid},
+                    0.096 + kHandleAboveLid, 0.01, action);
 }
 
 }  // namespace manyworlds::manipulation

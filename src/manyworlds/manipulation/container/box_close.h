@@ -26,8 +26,10 @@
 //     near_object ready; grasp_success grab >= 0.5; grasp_reward grab;
 //     in_place_reward lifted; obj_to_target 0 (as v3).
 //   v3's fingers hold the handle with the hand 6.8 cm above the lid frame;
-//   our handle bar is where our grip point is then (3.3 cm above the
-//   frame), so ready and floor mean the same hand positions.
+//   our handle's centre is where our grip point is then (3.3 cm above the
+//   frame), so ready and floor mean the same hand positions. It is 4 cm
+//   across (v3's bar 1.6 cm): our fingers squeeze in proportion to how far
+//   they stay from closed, and held v3's bar with 1 N (the lid slipped).
 #ifndef MANYWORLDS_MANIPULATION_CONTAINER_BOX_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_CONTAINER_BOX_CLOSE_H_
 
@@ -50,7 +52,7 @@ class BoxClose : public SawyerTask {
   int lid_qpos_ = -1;  // the lid's free joint
 };
 
-// Grasps the handle bar, lifts the lid over the walls and lowers it onto
+// Grasps the handle, lifts the lid over the walls and lowers it onto
 // the box.
 class BoxCloseScriptedPolicy : public Policy {
  public:
