@@ -26,14 +26,15 @@ FAITHFUL_V1 = ["reach", "push", "pick-place", "door-open", "drawer-open", "drawe
                "plate-slide", "plate-slide-side", "plate-slide-back", "plate-slide-back-side",
                "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock",
                "button-press", "button-press-wall", "button-press-topdown-wall",
-               "handle-press", "handle-press-side", "handle-pull", "handle-pull-side"]
+               "handle-press", "handle-press-side", "handle-pull", "handle-pull-side",
+               "coffee-button", "coffee-push", "coffee-pull"]
 
 
 # Where v3's own scripted policy never brings the tcp within v1's 5 cm of the object point in
 # these episodes, so only v1's reach term is compared: its policies push a handle, plate, dial
 # or lock bar from its side, with the tcp farther than 5 cm from the point obs[4:7] holds.
 BONUS_NOT_REACHED = {"window-open", "plate-slide-side", "plate-slide-back", "dial-turn",
-                     "door-unlock", "button-press"}
+                     "door-unlock", "button-press", "coffee-button"}
 
 
 @pytest.fixture(scope="module")

@@ -52,7 +52,9 @@ V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "ma
                "door-unlock": "maxPullDist", "button-press-topdown-wall": "maxDist",
                "button-press": "maxDist", "button-press-wall": "maxDist",
                "handle-press": "maxDist", "handle-press-side": "maxDist",
-               "handle-pull": "maxDist", "handle-pull-side": "maxDist"}
+               "handle-pull": "maxDist", "handle-pull-side": "maxDist",
+               "coffee-button": "maxDist", "coffee-push": "maxPushDist",
+               "coffee-pull": "maxPullDist"}
 
 
 def v1_fields(env, task):

@@ -1,8 +1,11 @@
 #include "manyworlds/manipulation/coffee/coffee_button.h"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "manyworlds/manipulation/coffee/coffee.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -26,6 +29,7 @@ SawyerTaskConfig CoffeeButton::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "coffee_machine";
   UseGoalOffset(kGoalOffset, config);
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -43,6 +47,11 @@ void CoffeeButton::PlaceObjects(mjModel* m, mjData* d) {
 void CoffeeButton::InitTaskState(SawyerState& s) const {
   ArticulatedTask::InitTaskState(s);
   s.obj_to_target_init = kMaxDist;
+  s.v1_max_dist = std::abs(s.obj[1] - s.goal[1]);  // v3's maxDist
+}
+
+RewardTerms CoffeeButton::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  return FrontButtonRewardV1(s, 0.02);
 }
 
 RewardTerms CoffeeButton::ComputeReward(const SawyerState& s, std::span<const float>) const {

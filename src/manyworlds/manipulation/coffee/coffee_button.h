@@ -19,6 +19,9 @@
 // Our machine's frame round the button has its top bar set back (see
 // assets/coffee_machine.xml) so that our fingers press the button with the
 // tcp as close to it as v3's: 1.5 cm in front of its face.
+//   v1: button-press's (FrontButtonRewardV1: the left finger's reach, the
+//     press depth's progress bonus; max_dist = |obj.y - goal.y| at reset,
+//     v3's maxDist); info from v1's zeros: success <= 0.02, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_COFFEE_COFFEE_BUTTON_H_
 #define MANYWORLDS_MANIPULATION_COFFEE_COFFEE_BUTTON_H_
 
@@ -34,6 +37,8 @@ class CoffeeButton : public ArticulatedTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
   // The machine, then the mug in front of it.
   void PlaceObjects(mjModel* m, mjData* d) override;
   // Also obj_to_target_init = v3's max_dist.

@@ -7,6 +7,7 @@
 #include "manyworlds/manipulation/coffee/coffee.h"
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/policy_utils.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -35,6 +36,7 @@ constexpr double kHeld = 0.02;
 SawyerTaskConfig CoffeeMugTask::BaseConfig() {
   SawyerTaskConfig config;
   config.hand_init = {0.0, 0.4, 0.2};
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -51,6 +53,37 @@ void CoffeeMugTask::PlaceObjects(mjModel* m, mjData* d) {
   const Vec3& at_machine = machine_at_goal_ ? goal_pos() : obj_pos();
   PlaceFixture(m, machine_,
                {at_machine[0], at_machine[1] + coffee::kMugBeforeMachine, at_machine[2]});
+}
+
+void CoffeeMugTask::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms CoffeeMugTask::ComputeRewardV1(const SawyerState& s,
+                                           std::span<const float> action) const {
+  const double reach_dist = Distance(s.tcp, s.obj);
+  const double xy_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  double reach = -reach_dist;
+  if (!machine_at_goal_) {  // coffee-pull
+    const double position_norm = std::sqrt(s.obj[0] * s.obj[0] + s.obj[1] * s.obj[1] +
+                                           s.tcp_init[2] * s.tcp_init[2]);
+    if (position_norm < 0.05) {
+      reach = -reach_dist + 0.1;
+      if (reach_dist < 0.05) reach += std::max(static_cast<double>(action[3]), 0.0) / 50.0;
+    } else {
+      reach = -position_norm;
+    }
+  }
+  const double bonus =
+      reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, xy_dist), 0.0) : 0.0;
+  const double obj_to_target = Distance(s.obj, s.goal);
+  RewardTerms terms;
+  terms.reward = reach + bonus;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = 1.0;
+  terms.obj_to_target = obj_to_target;
+  return terms;
 }
 
 RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const float> action) const {

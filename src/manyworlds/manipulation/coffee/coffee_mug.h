@@ -26,6 +26,12 @@
 // Our mug is 4.2 cm tall where v3's is 6.6 cm, so that our gripper grasps
 // it with the tcp inside those 3 and 4 cm of the foot, as v3's arm does
 // (assets/coffee_mug.xml).
+//   v1 (both): reward = reach + max(progress(xy distance to the goal), 0)
+//     once |tcp - obj| < 0.05, max_dist = that distance at reset
+//     (maxPushDist, maxPullDist); reach = -|tcp - obj| (push), and in
+//     coffee-pull v3's -|(obj.x, obj.y, tcp_init.z)| (the norm of a position,
+//     not a distance, so its "near" branch is never taken; kept as v3 has
+//     it); info from v1's zeros: success |obj - goal| <= 0.07, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_COFFEE_COFFEE_MUG_H_
 #define MANYWORLDS_MANIPULATION_COFFEE_COFFEE_MUG_H_
 
@@ -40,6 +46,9 @@ class CoffeeMugTask : public SawyerTask {
   // the mug's start (pull).
   CoffeeMugTask(SawyerTaskConfig config, bool machine_at_goal, SawyerOptions options);
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
   static SawyerTaskConfig BaseConfig();
 

@@ -57,7 +57,7 @@ void FrontButtonTask::InitTaskState(SawyerState& s) const {
   s.obj_to_target_init = kObjToTargetInit;
 }
 
-// v1's button reward: the left finger's tip (not the tcp) reaches the button.
+// The left finger's tip (not the tcp) reaches the button.
 RewardTerms FrontButtonRewardV1(const SawyerState& s, double success_radius) {
   const double press_dist = std::abs(s.obj[1] - s.goal[1]);
   RewardTerms terms;

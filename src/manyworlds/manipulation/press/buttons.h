@@ -69,6 +69,8 @@ class ButtonPress : public FrontButtonTask {
 // button-press's reward and info (above), from the record: also
 // coffee-button's, whose press margin (obj_to_target_init) is v3's max_dist.
 RewardTerms ButtonPressReward(const SawyerState& state);
+// The front buttons' v1 reward and info (above; also coffee-button's).
+RewardTerms FrontButtonRewardV1(const SawyerState& state, double success_radius);
 
 class ButtonPressWall : public FrontButtonTask {
  public:
