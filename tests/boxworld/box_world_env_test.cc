@@ -324,6 +324,9 @@ TEST(BoxWorldEnvTest, AModelIsBuiltOnlyWhenTheWorldStructureChanges) {
   }
   EXPECT_EQ(env.models_built(), 1);
   EXPECT_NE(targets[0], targets[1]);
+  for (const char* camera : {"top", "perspective", "front"}) {
+    EXPECT_GE(mj_name2id(env.model(), mjOBJ_CAMERA, camera), 0) << camera;
+  }
 
   BoxWorldEnv::Config broad = Complex();
   broad.distribution.floor_size = {4, 6};

@@ -85,9 +85,12 @@ sim::MjcfBuilder WorldMjcf(const WorldParams& w) {
   const double top_height = (half + 2 * kWallThickness) / std::tan(fovy / 2 * std::numbers::pi / 180);
   world.AddCamera({.name = "top", .pos = {0, 0, top_height + w.wall_height},
                    .xyaxes = {1, 0, 0, 0, 1, 0}, .fovy = fovy});
-  world.AddCamera(sim::MjcfCamera::LookAt("perspective",
-                                          {0, -1.05 * w.floor_size, 1.25 * w.floor_size},
-                                          {0, -0.05 * w.floor_size, 0}, fovy));
+  // "front" repeats "perspective" so that render's default camera (a preset
+  // framed for the Sawyer scenes) frames this world instead
+  for (const char* name : {"perspective", "front"}) {
+    world.AddCamera(sim::MjcfCamera::LookAt(name, {0, -1.05 * w.floor_size, 1.25 * w.floor_size},
+                                            {0, -0.05 * w.floor_size, 0}, fovy));
+  }
 
   sim::MjcfBody agent = world.AddBody("agent", {0, 0, w.agent_radius});
   agent.AddJoint({.name = "agent_x", .type = sim::JointType::kSlide, .axis = {1, 0, 0},

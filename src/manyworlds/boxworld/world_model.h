@@ -15,7 +15,8 @@
 //   motors       agent_x, agent_y (ctrl range +-agent_force N, gear 1),
 //                agent_yaw (ctrl range +-agent_torque N m)
 //   cameras      top (straight down, the whole floor), perspective (from
-//                the -y side, 50 degrees down)
+//                the -y side, 50 degrees down), front (the same as
+//                perspective: render's default camera name)
 // Physics: timestep 0.005 s; the env applies each action for 5 steps.
 // Start positions and the target are not part of the compiled structure:
 // the env writes them into qpos at reset and into the target site's
