@@ -407,8 +407,10 @@ TEST(BoxWorldEnvTest, RegistryOptionsReachTheGeneratorAndBadOnesAreErrors) {
             "0.424264] (success_radius_ratio to (1 - 2 success_radius_ratio) / sqrt(2)), got 0.5");
   EXPECT_NE(error("box-world-simple", {{"box_shapes", "cube"}}).find("'box_shapes'"),
             std::string::npos);
-  EXPECT_NE(error("box-world-simple", {{"num_boxes", 9}}).find("'num_boxes_max'"),
-            std::string::npos);
+  EXPECT_EQ(error("box-world-simple", {{"num_boxes", 9}}),
+            "env 'box-world-simple': options 'num_boxes' and 'num_boxes_max' must be at most "
+            "max_boxes = 8 (the observation's box slots), got up to 9 boxes; raise max_boxes (up "
+            "to 64) or lower num_boxes");
   EXPECT_NE(error("box-world-complex", {{"num_boxes", 0}}).find("for the complex task"),
             std::string::npos);
   EXPECT_NE(error("box-world-simple", {{"floor_size", "nan"}}).find("floor_size"),

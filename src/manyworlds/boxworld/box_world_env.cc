@@ -40,10 +40,12 @@ EnvSpec BoxWorldEnv::MakeSpec(const Config& config) {
     throw ConfigError("env '" + id + "': " + e.what());
   }
   if (config.distribution.num_boxes[1] > config.max_boxes) {
-    throw ConfigError("env '" + id + "': option 'num_boxes_max' must be in [num_boxes, " +
-                      "max_boxes = " + std::to_string(config.max_boxes) + "], got " +
+    throw ConfigError("env '" + id + "': options 'num_boxes' and 'num_boxes_max' must be at " +
+                      "most max_boxes = " + std::to_string(config.max_boxes) +
+                      " (the observation's box slots), got up to " +
                       std::to_string(config.distribution.num_boxes[1]) +
-                      " (raise max_boxes, the observation's box slots)");
+                      " boxes; raise max_boxes (up to " + std::to_string(kMaxBoxesLimit) +
+                      ") or lower num_boxes");
   }
   if (config.task == BoxTask::kComplex && config.distribution.num_boxes[0] < 1) {
     throw ConfigError("env '" + id + "': option 'num_boxes' must be in [1, " +
