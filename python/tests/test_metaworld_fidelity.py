@@ -51,7 +51,7 @@ def records(tmp_path_factory):
     out = tmp_path_factory.mktemp("metaworld") / "records.json"
     run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL), "--goals", "3",
                           "--steps", "150", "--seed", "7", "--out", str(out)],
-                         timeout=600, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
     data = json.loads(out.read_text())
     assert data["reward_version"] == "v2"

@@ -46,7 +46,7 @@ def records_v1(tmp_path_factory):
     run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL_V1), "--goals", "3",
                           "--steps", "150", "--seed", "7", "--reward-version", "v1",
                           "--out", str(out)],
-                         timeout=600, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
     data = json.loads(out.read_text())
     assert data["reward_version"] == "v1"
