@@ -17,7 +17,7 @@
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/manipulation.h"
 #include "manyworlds/manipulation/sawyer_task.h"
-#include "tests/manipulation/episode_success.h"
+#include "tests/manipulation/family_test.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -27,10 +27,6 @@ namespace {
 constexpr double kMugRestZ = -0.0028118;
 constexpr double kMugYawQuatZ = -0.02984;
 
-Vec3 Param(const TaskState& state, const char* key) {
-  const auto& v = state.params.at(key);
-  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-}
 
 Vec3 BodyPos(const SawyerTask& task, const char* name) {
   const int body = mj_name2id(task.model(), mjOBJ_BODY, name);
@@ -39,37 +35,14 @@ Vec3 BodyPos(const SawyerTask& task, const char* name) {
   return {p[0], p[1], p[2]};
 }
 
-class CoffeeTest : public ::testing::TestWithParam<std::string> {
- protected:
-  void SetUp() override {
-    RegisterManipulationSuite(registry_);
-    env_ = registry_.Make(GetParam());
-  }
-  void TearDown() override { EXPECT_EQ(task().sim_warning_count(), 0) << task().last_sim_warning(); }
-  const SawyerTask& task() const { return dynamic_cast<const SawyerTask&>(*env_); }
-
-  Registry registry_;
-  std::unique_ptr<Env> env_;
-};
+using CoffeeTest = FamilyTest<std::string>;
 
 TEST_P(CoffeeTest, ScriptedPolicySolvesNearlyEveryVariation) {
-  auto policy = MakeScriptedPolicy(GetParam());
-  double mean_steps = 0;
-  const int successes = CountSuccesses(*env_, *policy, 50, 99, &mean_steps);
-  std::printf("%s: scripted %d/50, mean %.0f steps to success\n", GetParam().c_str(), successes,
-              mean_steps);
-  EXPECT_GE(successes, 48);
+  ExpectScriptedSolves(*env_, id(), 48);
 }
 
 TEST_P(CoffeeTest, RandomActionsRarelySucceed) {
-  RandomPolicy policy(env_->spec().action_space, 7);
-  const auto start = std::chrono::steady_clock::now();
-  const int successes = CountSuccesses(*env_, policy, 50, 98);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("%s: random %d/50 (%.0f steps/s)\n", GetParam().c_str(), successes,
-              (50.0 * kMaxEpisodeSteps) / seconds);
-  EXPECT_LE(successes, 5);
+  ExpectRandomRarelySolves(*env_, id(), 5);
 }
 
 TEST_P(CoffeeTest, TaskStatesRoundTripAndBadOnesAreRejected) {
@@ -90,11 +63,7 @@ TEST_P(CoffeeTest, TaskStatesRoundTripAndBadOnesAreRejected) {
 
 INSTANTIATE_TEST_SUITE_P(Coffee, CoffeeTest,
                          ::testing::Values("coffee-button", "coffee-push", "coffee-pull"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         CaseName());
 
 class CoffeeButtonTest : public CoffeeTest {};
 
@@ -179,11 +148,7 @@ TEST_P(CoffeeMugTest, GraspSuccessStaysZeroAsInMetaWorld) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Coffee, CoffeeMugTest, ::testing::Values("coffee-push", "coffee-pull"),
-                         [](const auto& info) {
-                           std::string name = info.param;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         CaseName());
 
 }  // namespace
 }  // namespace manyworlds::manipulation

@@ -18,7 +18,7 @@
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/manipulation.h"
 #include "manyworlds/manipulation/sawyer_task.h"
-#include "tests/manipulation/episode_success.h"
+#include "tests/manipulation/family_test.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -41,25 +41,8 @@ std::vector<HoleCase> Cases() {
 
 void PrintTo(const HoleCase& c, std::ostream* os) { *os << c.id; }
 
-Vec3 Param(const TaskState& state, const char* key) {
-  const auto& v = state.params.at(key);
-  return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
-}
 
-class HoleTaskTest : public ::testing::TestWithParam<HoleCase> {
- protected:
-  void SetUp() override {
-    RegisterManipulationSuite(registry_);
-    env_ = registry_.Make(GetParam().id);
-  }
-  void TearDown() override {
-    const auto& task = dynamic_cast<const SawyerTask&>(*env_);
-    EXPECT_EQ(task.sim_warning_count(), 0) << task.last_sim_warning();
-  }
-
-  Registry registry_;
-  std::unique_ptr<Env> env_;
-};
+using HoleTaskTest = FamilyTest<HoleCase>;
 
 TEST_P(HoleTaskTest, ObjectRestsWhereMetaWorldsComesToRest) {
   env_->SeedTask(6);
@@ -111,12 +94,7 @@ TEST_P(HoleTaskTest, TaskStatesRoundTripAndBadOnesAreRejected) {
 }
 
 TEST_P(HoleTaskTest, ScriptedPolicySolvesNearlyEveryVariation) {
-  auto policy = MakeScriptedPolicy(GetParam().id);
-  double mean_steps = 0;
-  const int successes = CountSuccesses(*env_, *policy, 50, 99, &mean_steps);
-  std::printf("%s: scripted %d/50, mean %.0f steps to success\n", GetParam().id.c_str(),
-              successes, mean_steps);
-  EXPECT_GE(successes, 48);
+  ExpectScriptedSolves(*env_, id(), 48);
 }
 
 TEST_P(HoleTaskTest, SuccessMeansTheObjectIsInOrOutOfTheHole) {
@@ -140,22 +118,11 @@ TEST_P(HoleTaskTest, SuccessMeansTheObjectIsInOrOutOfTheHole) {
 }
 
 TEST_P(HoleTaskTest, RandomActionsRarelySucceed) {
-  RandomPolicy policy(env_->spec().action_space, 7);
-  const auto start = std::chrono::steady_clock::now();
-  const int successes = CountSuccesses(*env_, policy, 50, 98);
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("%s: random %d/50 (%.0f steps/s)\n", GetParam().id.c_str(), successes,
-              (50.0 * kMaxEpisodeSteps) / seconds);
-  EXPECT_LE(successes, 3);
+  ExpectRandomRarelySolves(*env_, id(), 3);
 }
 
 INSTANTIATE_TEST_SUITE_P(Hole, HoleTaskTest, ::testing::ValuesIn(Cases()),
-                         [](const auto& info) {
-                           std::string name = info.param.id;
-                           for (char& c : name) c = c == '-' ? '_' : c;
-                           return name;
-                         });
+                         CaseName());
 
 }  // namespace
 }  // namespace manyworlds::manipulation
