@@ -11,6 +11,7 @@
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
+#include "manyworlds/manipulation/benchmark.h"
 #include "manyworlds/manipulation/manipulation.h"
 
 namespace manyworlds::manipulation {
@@ -93,6 +94,27 @@ TEST(RewardV1Test, TasksWithoutItRefuseTheOption) {
     }
   }
   EXPECT_THROW(registry.Make("reach", {{"reward_version", "v3"}}), ConfigError);
+}
+
+TEST(RewardV1Test, BenchmarksPassTheVersionToEveryMember) {
+  Registry registry;
+  RegisterManipulationSuite(registry);
+  auto mt10 = registry.Make("mt10", {{"reward_version", "v1"}, {"num_variations", 2}});
+  const auto& bench = dynamic_cast<const Benchmark&>(*mt10);
+  for (int t = 0; t < bench.num_tasks(); ++t) {
+    EXPECT_EQ(bench.member(t).reward_version(), RewardVersion::kV1) << bench.task_name(t);
+  }
+  auto ml1 = registry.Make("ml1", {{"task", "push"}, {"reward_version", "v1"}});
+  EXPECT_EQ(dynamic_cast<const Benchmark&>(*ml1).member(0).reward_version(), RewardVersion::kV1);
+  EXPECT_EQ(dynamic_cast<const Benchmark&>(*registry.Make("mt10")).member(0).reward_version(),
+            RewardVersion::kV2);
+  try {
+    registry.Make("mt50", {{"reward_version", "v1"}, {"num_variations", 1}});
+    ADD_FAILURE() << "mt50 accepted v1 although some members lack it";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("reward_version=v1 is not available"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

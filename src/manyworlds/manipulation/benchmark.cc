@@ -37,11 +37,16 @@ std::vector<std::unique_ptr<SawyerTask>> MakeMembers(const BenchmarkConfig& conf
   std::vector<std::unique_ptr<SawyerTask>> members;
   SawyerOptions options;
   options.goal_observable = !config.meta;
+  options.reward_version = config.reward_version;
   for (const std::string& task : config.tasks) {
     if (!seen.insert(task).second) {
       throw ConfigError("benchmark '" + config.id + "' lists task '" + task + "' twice");
     }
     members.push_back(MakeSawyerTask(task, options));
+    if (config.reward_version == RewardVersion::kV1 && !members.back()->HasRewardV1()) {
+      throw ConfigError("benchmark '" + config.id + "': reward_version=v1 is not available for its "
+                        "task '" + task + "' yet");
+    }
   }
   return members;
 }
@@ -359,6 +364,10 @@ void RegisterBenchmarks(Registry& registry) {
   const OptionSpec split{"split", OptionType::kString, "train", "which tasks / variations",
                          {"train", "test"}};
   const OptionSpec task{"task", OptionType::kString, "reach", "the task", task_ids};
+  const OptionSpec reward{"reward_version", OptionType::kString, "v2",
+                          "Meta-World's reward_function_version of every member: v2 or v1 (where "
+                          "every member has it)",
+                          {"v2", "v1"}};
 
   auto make = [](BenchmarkConfig config, const Options& options) -> std::unique_ptr<Env> {
     config.seed = static_cast<uint64_t>(options.Int("benchmark_seed"));
@@ -368,6 +377,8 @@ void RegisterBenchmarks(Registry& registry) {
                         "100000], got " + std::to_string(variations));
     }
     config.num_variations = static_cast<int>(variations);
+    config.reward_version =
+        options.String("reward_version") == "v1" ? RewardVersion::kV1 : RewardVersion::kV2;
     auto bench = std::make_unique<Benchmark>(std::move(config));
     if (bench->config().meta || !options.Bool("task_id_in_obs")) return bench;
     return std::make_unique<AppendTaskOneHot>(std::move(bench));
@@ -377,7 +388,7 @@ void RegisterBenchmarks(Registry& registry) {
   };
   for (const BenchmarkSplits& b : PublishedBenchmarks()) {
     if (b.meta) {
-      registry.Add({b.id, "benchmark", b.description, {seed, variations, split},
+      registry.Add({b.id, "benchmark", b.description, {seed, variations, split, reward},
                     [make, split_of, &b](const Options& options) {
                       const BenchmarkSplit s = split_of(options);
                       return make({b.id, s == BenchmarkSplit::kTrain ? b.train : b.test, true, s},
@@ -385,14 +396,14 @@ void RegisterBenchmarks(Registry& registry) {
                     }});
     } else {
       registry.Add({b.id, "benchmark", b.description + ", task id as task observation",
-                    {seed, variations, one_hot},
+                    {seed, variations, one_hot, reward},
                     [make, &b](const Options& options) {
                       return make({b.id, b.train, false, BenchmarkSplit::kTrain}, options);
                     }});
     }
   }
   registry.Add({"mt1", "benchmark", "MT1: one task x 50 variations, goal visible",
-                {task, seed, variations, one_hot},
+                {task, seed, variations, one_hot, reward},
                 [make](const Options& options) {
                   return make({"mt1", {options.String("task")}, false, BenchmarkSplit::kTrain},
                               options);
@@ -400,7 +411,7 @@ void RegisterBenchmarks(Registry& registry) {
   registry.Add({"ml1", "benchmark",
                 "ML1: one task, 50 train variations and 50 different test variations, goal "
                 "hidden",
-                {task, seed, variations, split},
+                {task, seed, variations, split, reward},
                 [make, split_of](const Options& options) {
                   return make({"ml1", {options.String("task")}, true, split_of(options)}, options);
                 }});

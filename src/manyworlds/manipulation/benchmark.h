@@ -50,6 +50,8 @@ struct BenchmarkConfig {
   BenchmarkSplit split = BenchmarkSplit::kTrain;
   uint64_t seed = 0;               // the benchmark seed
   int num_variations = 50;
+  // Every member's reward version; v1 needs every member to have it.
+  RewardVersion reward_version = RewardVersion::kV2;
 };
 
 // The published splits (metaworld.md §1.2), as Meta-World v3's env_dict.py
