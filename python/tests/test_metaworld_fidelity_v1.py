@@ -27,7 +27,8 @@ FAITHFUL_V1 = ["reach", "push", "pick-place", "door-open", "drawer-open", "drawe
                "faucet-open", "faucet-close", "dial-turn", "door-lock", "door-unlock",
                "button-press", "button-press-wall", "button-press-topdown-wall",
                "handle-press", "handle-press-side", "handle-pull", "handle-pull-side",
-               "coffee-button", "coffee-push", "coffee-pull"]
+               "coffee-button", "coffee-push", "coffee-pull", "hand-insert", "pick-out-of-hole",
+               "peg-unplug-side"]
 
 
 # Where v3's own scripted policy never brings the tcp within v1's 5 cm of the object point in

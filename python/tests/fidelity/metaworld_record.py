@@ -54,7 +54,8 @@ V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "ma
                "handle-press": "maxDist", "handle-press-side": "maxDist",
                "handle-pull": "maxDist", "handle-pull-side": "maxDist",
                "coffee-button": "maxDist", "coffee-push": "maxPushDist",
-               "coffee-pull": "maxPullDist"}
+               "coffee-pull": "maxPullDist", "hand-insert": "maxReachDist",
+               "pick-out-of-hole": "maxPlacingDist", "peg-unplug-side": "maxPlacingDist"}
 
 
 def v1_fields(env, task):

@@ -16,7 +16,7 @@ double ReachThenProgress(double reach_dist, double max_dist, double d, bool clam
 }
 
 PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
-                         double progress_dist, double z_weight) {
+                         double progress_dist, double z_weight, bool lift_from_start) {
   const double reach_dist = Distance(s.obj, s.tcp);
   const double reach_xy = std::hypot(s.obj[0] - s.tcp[0], s.obj[1] - s.tcp[1]);
   const double z_rise = std::abs(s.tcp[2] - s.tcp_init[2]);
@@ -28,11 +28,12 @@ PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double pla
   const bool picked = s.obj[2] >= height_target - 0.01;
   const bool dropped =
       s.obj[2] < s.v1_obj_height + 0.005 && place_dist > 0.02 && reach_dist > 0.02;
+  const double floor = lift_from_start ? s.v1_obj_height - 0.02 : 0.0;
   double pick = 0;
   if (picked && !dropped) {
-    pick = 100.0 * height_target;
+    pick = 100.0 * (height_target - floor);
   } else if (reach_dist < 0.1 && s.obj[2] > s.v1_obj_height + 0.005) {
-    pick = 100.0 * std::min(height_target, s.obj[2]);
+    pick = 100.0 * (std::min(height_target, s.obj[2]) - floor);
   }
   double place = 0;
   if (picked && reach_dist < 0.1 && !dropped) {

@@ -34,8 +34,10 @@ struct PickPlaceTerms {
   double reach_dist = 0;  // |obj - tcp|
   double place_dist = 0;  // |obj - goal|
 };
+// lift_from_start: the lift bonus counts the height above the object's start
+// plus 2 cm (pick-out-of-hole), not the height above the table.
 PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
-                         double progress_dist, double z_weight);
+                         double progress_dist, double z_weight, bool lift_from_start = false);
 
 // The lift target and normaliser v3 sets at reset for pick-and-place:
 // obj_height = the object's height, height_target = obj_height + lift,

@@ -1,7 +1,11 @@
 #include "manyworlds/manipulation/hole/hand_insert.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -23,6 +27,7 @@ SawyerTaskConfig HandInsert::Config() {
   config.goal_low = {-0.04, 0.8, -0.0201};
   config.goal_high = {0.04, 0.88, -0.0199};
   config.obj_quat = QuatLayout::kWxyz;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -58,6 +63,25 @@ RewardTerms HandInsert::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_success = GraspSuccess(s);
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void HandInsert::InitTaskState(SawyerState& s) const {
+  s.v1_max_dist = std::abs(s.hand_init[2] - s.goal[2]);  // v3's maxReachDist
+}
+
+RewardTerms HandInsert::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+  const double reach_xy = std::hypot(s.tcp[0] - s.goal[0], s.tcp[1] - s.goal[1]);
+  const double reach_z = std::abs(s.tcp[2] - s.goal[2]);
+  const double near = reach_xy < 0.05 ? v1::Progress(s.v1_max_dist, reach_z) : 0.0;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj_init - goal|, 0, 0): the
+  // distance (and so success) never changes during an episode
+  const double obj_to_target = Distance(s.obj_init, s.goal);
+  RewardTerms terms;
+  terms.reward = -reach_xy + std::max(near, 0.0);
+  terms.success = obj_to_target <= kTargetRadius;
+  terms.near_object = 1.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

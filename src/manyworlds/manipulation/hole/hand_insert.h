@@ -22,6 +22,11 @@
 //     grasp_success = touching, opening > 0 and the block 2 cm above
 //     obj_init (i.e. lifted off the top); grasp_reward grasped;
 //     in_place_reward in_place; obj_to_target |obj - goal|.
+//   v1: reward = -|tcp - goal| in xy + (within 5 cm: max(progress(|tcp.z -
+//     goal.z|), 0)), max_dist = |hand_init.z - goal.z| (maxReachDist); the
+//     tcp, not the block, is rewarded; info from v1's values: obj_to_target
+//     |obj_init - goal| for the whole episode (so success never changes),
+//     near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_HOLE_HAND_INSERT_H_
 #define MANYWORLDS_MANIPULATION_HOLE_HAND_INSERT_H_
 
@@ -37,6 +42,9 @@ class HandInsert : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
 
  private:

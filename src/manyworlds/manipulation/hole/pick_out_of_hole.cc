@@ -5,6 +5,7 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 
@@ -19,6 +20,7 @@ SawyerTaskConfig PickOutOfHole::Config() {
   config.goal_low = {-0.1, 0.5, 0.15};
   config.goal_high = {0.1, 0.6, 0.3};
   config.obj_quat = QuatLayout::kWxyz;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -52,6 +54,24 @@ RewardTerms PickOutOfHole::ComputeReward(const SawyerState& s,
   terms.grasp_success = held ? 1.0 : 0.0;
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
+  terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+void PickOutOfHole::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], 0.11);  // v3's liftThresh
+}
+
+RewardTerms PickOutOfHole::ComputeRewardV1(const SawyerState& s,
+                                           std::span<const float> action) const {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  const v1::PickPlaceTerms v =
+      v1::PickPlace(s, action[3], obj_to_target, obj_to_target, 2.0, /*lift_from_start=*/true);
+  RewardTerms terms;
+  terms.reward = v.reward;
+  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
+  terms.success = obj_to_target <= 0.07;
+  terms.near_object = 1.0;
   terms.obj_to_target = obj_to_target;
   return terms;
 }

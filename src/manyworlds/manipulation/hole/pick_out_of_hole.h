@@ -25,6 +25,9 @@
 //   Our gripper's opening is about 0.5 closed on the 4 cm puck and 0.2
 //   closed on nothing, so opening < 0.33 means what it means in v3: shut
 //   without the puck.
+//   v1: pick-place's (v1::PickPlace, lift target 0.11 above the start,
+//     the lift bonus counted from 2 cm below the start); info from v1's
+//     zeros: success |obj - goal| <= 0.07, near_object 1, grasp_success 0.
 #ifndef MANYWORLDS_MANIPULATION_HOLE_PICK_OUT_OF_HOLE_H_
 #define MANYWORLDS_MANIPULATION_HOLE_PICK_OUT_OF_HOLE_H_
 
@@ -40,6 +43,9 @@ class PickOutOfHole : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 // Grasps the puck, lifts it straight up out of the hole and carries it to

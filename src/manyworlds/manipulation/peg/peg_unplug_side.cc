@@ -1,7 +1,11 @@
 #include "manyworlds/manipulation/peg/peg_unplug_side.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -30,6 +34,7 @@ SawyerTaskConfig PegUnplugSide::Config() {
   }
   config.min_obj_goal_xy = 0.0;
   config.obj_quat = QuatLayout::kWxyz;
+  config.has_reward_v1 = true;
   return config;
 }
 
@@ -49,7 +54,10 @@ void PegUnplugSide::RefreshTaskState(const mjData* d, SawyerState& state) const 
   state.obj = SitePosition(d, plug_end_);
 }
 
-void PegUnplugSide::InitTaskState(SawyerState& state) const { state.obj_init = state.obj; }
+void PegUnplugSide::InitTaskState(SawyerState& state) const {
+  state.obj_init = state.obj;
+  state.v1_max_dist = Distance(state.goal, state.obj_init);  // v3's maxPlacingDist
+}
 
 RewardTerms PegUnplugSide::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const double tcp_to_obj = Distance(s.obj, s.tcp);
@@ -76,6 +84,25 @@ RewardTerms PegUnplugSide::ComputeReward(const SawyerState& s, std::span<const f
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+RewardTerms PegUnplugSide::ComputeRewardV1(const SawyerState& s,
+                                           std::span<const float> action) const {
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double reach_xy = std::hypot(s.obj[0] - s.tcp[0], s.obj[1] - s.tcp[1]);
+  // v3 measures the height change from the configured hand start here, not the tcp's
+  double reach = reach_xy < 0.05 ? -reach_dist : -reach_xy - 2.0 * std::abs(s.tcp[2] - s.hand_init[2]);
+  if (reach_dist < 0.05) reach = -reach_dist + std::max(static_cast<double>(action[3]), 0.0) / 50.0;
+  const double place_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  const double place =
+      reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, place_dist), 0.0) : 0.0;
+  RewardTerms terms;
+  terms.reward = reach + place;
+  // v3's evaluate_state on v1's (reward, 0, 0, place_dist, 0, 0, 0)
+  terms.success = place_dist <= kTargetRadius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = place_dist;
   return terms;
 }
 

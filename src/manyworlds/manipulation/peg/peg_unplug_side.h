@@ -22,6 +22,10 @@
 // Our plug slides along x on a joint held by dry friction where v3's is a
 // free body wedged in its socket: the same 4 cm pull succeeds (the asset
 // says why).
+//   v1: reach (xy first, the tcp's height change from the hand start weighted
+//     2; + max(a[3], 0) / 50 within 5 cm) + max(progress(xy distance to the
+//     goal), 0) within 5 cm, max_dist = |goal - obj_init| (maxPlacingDist);
+//     info from v1's zeros: success xy distance <= 0.07, near_object 1.
 #ifndef MANYWORLDS_MANIPULATION_PEG_PEG_UNPLUG_SIDE_H_
 #define MANYWORLDS_MANIPULATION_PEG_PEG_UNPLUG_SIDE_H_
 
@@ -37,6 +41,8 @@ class PegUnplugSide : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
   // goal = obj + (0.194, 0, 0.131).
   Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
