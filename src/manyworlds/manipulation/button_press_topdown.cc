@@ -70,9 +70,8 @@ RewardTerms ButtonPressTopdown::ComputeRewardV1(const SawyerState& s,
                                                  std::span<const float>) const {
   const double press_dist = std::abs(s.obj[2] - s.goal[2]);
   const double reach_dist = Distance(s.obj, s.tcp);
-  const double press = reach_dist < 0.05 ? v1::Progress(s.v1_max_dist, press_dist) : 0.0;
   RewardTerms terms;
-  terms.reward = -reach_dist + std::max(press, 0.0);
+  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, press_dist);
   // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
   terms.success = press_dist <= kSuccess;
   terms.near_object = 1.0;

@@ -82,9 +82,8 @@ void DoorOpen::InitTaskState(SawyerState& s) const {
 RewardTerms DoorOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double pull_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
   const double reach_dist = Distance(s.obj, s.tcp);
-  const double pull = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, pull_dist), 0.0) : 0.0;
   RewardTerms terms;
-  terms.reward = -reach_dist + pull;
+  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, pull_dist);
   // v3's evaluate_state on v1's (reward, 0, 0, 0): success as in v2
   terms.success = std::abs(s.obj[0] - s.goal[0]) <= kSuccessX;
   return terms;

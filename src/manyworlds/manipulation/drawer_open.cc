@@ -67,9 +67,8 @@ void DrawerOpen::InitTaskState(SawyerState& s) const {
 RewardTerms DrawerOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
   const double reach_dist = Distance(s.obj, s.tcp);
-  const double pull = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, pull_dist), 0.0) : 0.0;
   RewardTerms terms;
-  terms.reward = -reach_dist + pull;
+  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, pull_dist);
   // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
   terms.success = pull_dist <= kSuccess;
   terms.near_object = 1.0;

@@ -66,9 +66,8 @@ void Push::InitTaskState(SawyerState& s) const {
 RewardTerms Push::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double reach_dist = Distance(s.tcp, s.obj);
   const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  const double push = reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, push_dist), 0.0) : 0.0;
   RewardTerms terms;
-  terms.reward = -reach_dist + push;
+  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, push_dist);
   // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
   terms.success = push_dist <= kTargetRadius;
   terms.near_object = 1.0;

@@ -65,10 +65,9 @@ void WindowOpen::InitTaskState(SawyerState& s) const {
 RewardTerms WindowOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double pull_dist = std::abs(s.obj[0] - s.goal[0]);
   const double reach_dist = Distance(s.obj, s.tcp);
-  // v3 does not clamp this bonus at 0
-  const double pull = reach_dist < 0.05 ? v1::Progress(s.v1_max_dist, pull_dist) : 0.0;
   RewardTerms terms;
-  terms.reward = -reach_dist + pull;
+  // v3 does not clamp this bonus at 0
+  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, pull_dist, /*clamp=*/false);
   // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
   terms.success = pull_dist <= kTargetRadius;
   terms.near_object = 1.0;
