@@ -70,21 +70,8 @@ TEST_P(ContainerTaskTest, ObjectRestsWhereMetaWorldsComesToRest) {
 }
 
 TEST_P(ContainerTaskTest, TaskStatesRoundTripAndBadOnesAreRejected) {
-  env_->SeedTask(8);
-  const auto& config = dynamic_cast<const SawyerTask&>(*env_).config();
-  for (int i = 0; i < 20; ++i) {
-    const TaskState state = env_->SampleTaskState();
-    env_->SetTaskState(TaskState::Parse(state.Dump()));
-    EXPECT_EQ(env_->GetTaskState(), state);
-    const Vec3 obj = Param(state, "obj_pos"), goal = Param(state, "goal_pos");
-    for (int k = 0; k < 3; ++k) {
-      EXPECT_GE(obj[k], config.obj_low[k]);
-      EXPECT_LE(obj[k], config.obj_high[k]);
-      EXPECT_GE(goal[k], config.goal_low[k]);
-      EXPECT_LE(goal[k], config.goal_high[k]);
-    }
-    EXPECT_GE(std::hypot(obj[0] - goal[0], obj[1] - goal[1]), 0.15);
-  }
+  ExpectSampledStatesRoundTripWithinRanges(*env_, 0.15);
+  const auto& config = task().config();
   const TaskState state = env_->SampleTaskState();
   TaskState bad = state;
   bad.params["obj_pos"][2] = config.obj_high[2] + 0.01;  // above v3's range
@@ -102,23 +89,8 @@ TEST_P(ContainerTaskTest, ScriptedPolicySolvesNearlyEveryVariation) {
 }
 
 TEST_P(ContainerTaskTest, SuccessMeansTheObjectIsInOrOnTheContainer) {
-  auto policy = MakeScriptedPolicy(GetParam().id);
-  env_->SeedTask(12);
-  std::vector<float> action(4);
-  for (int variation = 0; variation < 5; ++variation) {
-    env_->ResetTaskState();
-    Observation obs = env_->Reset();
-    for (int t = 0; t < kMaxEpisodeSteps; ++t) {
-      policy->Act(obs.env_obs, obs.task_obs, action);
-      StepResult r = env_->Step(action);
-      obs = r.obs;
-      if (r.info.Get("success") > 0) {
-        EXPECT_LT(obs.env_obs[kObsObj1Pos + 2], GetParam().success_z_below);
-        EXPECT_GT(obs.env_obs[kObsObj1Pos + 2], GetParam().success_z_above);
-        break;
-      }
-    }
-  }
+  ExpectObjectHeightAtSuccessBetween(*env_, id(), GetParam().success_z_above,
+                                     GetParam().success_z_below);
 }
 
 TEST_P(ContainerTaskTest, RandomActionsRarelySucceed) {

@@ -7,9 +7,11 @@
 #define MANYWORLDS_TESTS_MANIPULATION_FAMILY_TEST_H_
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -79,6 +81,49 @@ inline void ExpectRandomRarelySolves(Env& env, const std::string& id, int at_mos
   std::printf("%s: random %d/50 (%.0f steps/s)\n", id.c_str(), successes,
               (50.0 * kMaxEpisodeSteps) / seconds);
   EXPECT_LE(successes, at_most) << id;
+}
+
+// 20 sampled task states (task seed 8) survive a JSON round trip, lie in the
+// task's ranges and keep object and goal >= min_obj_goal_xy apart in xy.
+inline void ExpectSampledStatesRoundTripWithinRanges(Env& env, double min_obj_goal_xy) {
+  env.SeedTask(8);
+  const auto& config = dynamic_cast<const SawyerTask&>(env).config();
+  for (int i = 0; i < 20; ++i) {
+    const TaskState state = env.SampleTaskState();
+    env.SetTaskState(TaskState::Parse(state.Dump()));
+    EXPECT_EQ(env.GetTaskState(), state);
+    const Vec3 obj = Param(state, "obj_pos"), goal = Param(state, "goal_pos");
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(obj[k], config.obj_low[k]);
+      EXPECT_LE(obj[k], config.obj_high[k]);
+      EXPECT_GE(goal[k], config.goal_low[k]);
+      EXPECT_LE(goal[k], config.goal_high[k]);
+    }
+    EXPECT_GE(std::hypot(obj[0] - goal[0], obj[1] - goal[1]), min_obj_goal_xy);
+  }
+}
+
+// In 5 scripted episodes (task seed 12), the object's height (obs[6]) at the
+// first success lies in (above, below).
+inline void ExpectObjectHeightAtSuccessBetween(Env& env, const std::string& id, double above,
+                                               double below) {
+  auto policy = MakeScriptedPolicy(id);
+  env.SeedTask(12);
+  std::vector<float> action(4);
+  for (int variation = 0; variation < 5; ++variation) {
+    env.ResetTaskState();
+    Observation obs = env.Reset();
+    for (int t = 0; t < kMaxEpisodeSteps; ++t) {
+      policy->Act(obs.env_obs, obs.task_obs, action);
+      StepResult r = env.Step(action);
+      obs = r.obs;
+      if (r.info.Get("success") > 0) {
+        EXPECT_LT(obs.env_obs[kObsObj1Pos + 2], below) << id;
+        EXPECT_GT(obs.env_obs[kObsObj1Pos + 2], above) << id;
+        break;
+      }
+    }
+  }
 }
 
 }  // namespace manyworlds::manipulation

@@ -77,21 +77,8 @@ TEST_P(ToolTaskTest, ObjectsStartWhereMetaWorldsDo) {
 }
 
 TEST_P(ToolTaskTest, TaskStatesRoundTripAndBadOnesAreRejected) {
-  env_->SeedTask(8);
-  const auto& config = dynamic_cast<const SawyerTask&>(*env_).config();
-  for (int i = 0; i < 20; ++i) {
-    const TaskState state = env_->SampleTaskState();
-    env_->SetTaskState(TaskState::Parse(state.Dump()));
-    EXPECT_EQ(env_->GetTaskState(), state);
-    const Vec3 obj = Param(state, "obj_pos"), goal = Param(state, "goal_pos");
-    for (int k = 0; k < 3; ++k) {
-      EXPECT_GE(obj[k], config.obj_low[k]);
-      EXPECT_LE(obj[k], config.obj_high[k]);
-      EXPECT_GE(goal[k], config.goal_low[k]);
-      EXPECT_LE(goal[k], config.goal_high[k]);
-    }
-    EXPECT_GE(std::hypot(obj[0] - goal[0], obj[1] - goal[1]), GetParam().min_obj_goal_xy);
-  }
+  ExpectSampledStatesRoundTripWithinRanges(*env_, GetParam().min_obj_goal_xy);
+  const auto& config = task().config();
   const TaskState state = env_->SampleTaskState();
   TaskState bad = state;
   bad.params["goal_pos"][2] = bad.params["goal_pos"][2].get<double>() + 0.00005;  // off v3's height
