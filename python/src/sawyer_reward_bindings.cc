@@ -82,6 +82,8 @@ SawyerState ReadRecord(const py::dict& record) {
   s.v1_obj_height = record["v1_obj_height"].cast<double>();
   s.v1_height_target = record["v1_height_target"].cast<double>();
   s.left_finger = ReadVec3(record, "left_finger");
+  s.v1_max_dist2 = record["v1_max_dist2"].cast<double>();
+  s.obj2_head = ReadVec3(record, "obj2_head");
   return s;
 }
 
@@ -136,6 +138,8 @@ py::dict SawyerStateOf(PyEnv& env) {
   out["v1_obj_height"] = s.v1_obj_height;
   out["v1_height_target"] = s.v1_height_target;
   out["left_finger"] = vec(s.left_finger);
+  out["v1_max_dist2"] = s.v1_max_dist2;
+  out["obj2_head"] = vec(s.obj2_head);
   return out;
 }
 #endif

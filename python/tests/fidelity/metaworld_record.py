@@ -55,15 +55,27 @@ V1_MAX_DIST = {"reach": "maxReachDist", "push": "maxPushDist", "pick-place": "ma
                "handle-pull": "maxDist", "handle-pull-side": "maxDist",
                "coffee-button": "maxDist", "coffee-push": "maxPushDist",
                "coffee-pull": "maxPullDist", "hand-insert": "maxReachDist",
-               "pick-out-of-hole": "maxPlacingDist", "peg-unplug-side": "maxPlacingDist"}
+               "pick-out-of-hole": "maxPlacingDist", "peg-unplug-side": "maxPlacingDist",
+               "bin-picking": "maxPlacingDist", "box-close": "maxPlacingDist",
+               "assembly": "maxPlacingDist", "disassemble": "maxPlacingDist",
+               "hammer": "maxHammerDist", "stick-push": "maxPlaceDist",
+               "stick-pull": "maxPlaceDist"}
+# ... the second normaliser of the stick tasks, and the attribute holding the lift reference
+V1_MAX_DIST2 = {"stick-push": "maxPushDist", "stick-pull": "maxPullDist"}
+V1_OBJ_HEIGHT = {"assembly": "obj_height", "hammer": "hammerHeight", "stick-push": "stickHeight",
+                 "stick-pull": "stickHeight"}
 
 
 def v1_fields(env, task):
     """The v1 reward's reset-time quantities (zeros where the task's v1 reads none)."""
     value = lambda name: float(np.asarray(getattr(env, name, 0.0), dtype=np.float64))
     return {"v1_max_dist": value(V1_MAX_DIST[task]) if task in V1_MAX_DIST else 0.0,
-            "v1_obj_height": value("objHeight"), "v1_height_target": value("heightTarget"),
-            "left_finger": [float(x) for x in env._get_site_pos("leftEndEffector")]}
+            "v1_obj_height": value(V1_OBJ_HEIGHT.get(task, "objHeight")),
+            "v1_height_target": value("heightTarget"),
+            "left_finger": [float(x) for x in env._get_site_pos("leftEndEffector")],
+            "v1_max_dist2": value(V1_MAX_DIST2[task]) if task in V1_MAX_DIST2 else 0.0,
+            "obj2_head": ([float(x) for x in env._get_site_pos("nailHead")] if task == "hammer"
+                          else [0.0] * 3)}
 
 
 def state_record(env, obs, task=None):
@@ -82,18 +94,20 @@ def state_record(env, obs, task=None):
         "hand_init": vec(env.hand_init_pos),
         "gripper_opening": float(obs[3]),
         "touching_obj": touching(env),
-        # peg-insert-side (pegHead), stick-pull (stick_end), assembly and disassemble (RoundNut)
+        # peg-insert-side (pegHead), stick-pull (stick_end), assembly and disassemble (RoundNut),
+        # hammer (HammerHead)
         "obj_head": (vec(env._get_site_pos("pegHead")) if hasattr(env, "peg_head_pos_init") else
                      vec(env._get_site_pos("stick_end")) if task == "stick-pull" else
                      vec(env._get_site_pos("RoundNut")) if task in ("assembly", "disassemble") else
+                     vec(env.data.geom("HammerHead").xpos) if task == "hammer" else
                      [0.0] * 3),
         "obj_head_init": vec(getattr(env, "peg_head_pos_init", np.zeros(3))),
         # articulated tasks
         "joint_qpos": (float(env.data.joint(JOINT_QPOS[task]).qpos.item())
                        if task in JOINT_QPOS else 0.0),
         "handle_init": vec(getattr(env, HANDLE_INIT[task]) if task in HANDLE_INIT else np.zeros(3)),
-        "obj_to_target_init": (float(getattr(env, OBJ_TO_TARGET_INIT[task]))
-                               if task in OBJ_TO_TARGET_INIT else 0.0),
+        # (v1 leaves bin-picking's _target_to_obj_init at None: its reward never reads it)
+        "obj_to_target_init": float(getattr(env, OBJ_TO_TARGET_INIT.get(task, ""), None) or 0.0),
         "obj_quat": vec(obs[7:11]),
         # tool-use tasks: the second object (obs[11:14]) and the thermos's base at reset
         "obj2": vec(obs[11:14]),

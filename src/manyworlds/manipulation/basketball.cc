@@ -34,7 +34,6 @@ SawyerTaskConfig Basketball::Config() {
   config.goal_low = {-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]};
   config.goal_high = {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]};
   config.min_obj_goal_xy = 0.0;
-  config.has_reward_v1 = true;
   return config;
 }
 

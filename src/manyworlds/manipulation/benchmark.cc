@@ -43,10 +43,6 @@ std::vector<std::unique_ptr<SawyerTask>> MakeMembers(const BenchmarkConfig& conf
       throw ConfigError("benchmark '" + config.id + "' lists task '" + task + "' twice");
     }
     members.push_back(MakeSawyerTask(task, options));
-    if (config.reward_version == RewardVersion::kV1 && !members.back()->HasRewardV1()) {
-      throw ConfigError("benchmark '" + config.id + "': reward_version=v1 is not available for its "
-                        "task '" + task + "' yet");
-    }
   }
   return members;
 }
@@ -365,8 +361,7 @@ void RegisterBenchmarks(Registry& registry) {
                          {"train", "test"}};
   const OptionSpec task{"task", OptionType::kString, "reach", "the task", task_ids};
   const OptionSpec reward{"reward_version", OptionType::kString, "v2",
-                          "Meta-World's reward_function_version of every member: v2 or v1 (where "
-                          "every member has it)",
+                          "Meta-World's reward_function_version of every member: v2 or v1",
                           {"v2", "v1"}};
 
   auto make = [](BenchmarkConfig config, const Options& options) -> std::unique_ptr<Env> {

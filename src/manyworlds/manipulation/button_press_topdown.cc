@@ -33,7 +33,6 @@ SawyerTaskConfig ButtonPressTopdown::Config() {
   config.obj_high = {0.1, 0.9, 0.115};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

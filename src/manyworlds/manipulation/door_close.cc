@@ -33,7 +33,6 @@ SawyerTaskConfig DoorClose::Config() {
   config.obj_low = {0.0, 0.85, 0.15};
   config.obj_high = {0.1, 0.95, 0.15};
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

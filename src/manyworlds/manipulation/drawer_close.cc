@@ -41,7 +41,6 @@ SawyerTaskConfig DrawerClose::Config() {
   config.obj_high = {0.1, 0.9, 0.0};
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -32,7 +32,6 @@ SawyerTaskConfig DrawerOpen::Config() {
   config.obj_high = {0.1, 0.9, 0.0};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

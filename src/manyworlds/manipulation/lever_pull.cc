@@ -38,7 +38,6 @@ SawyerTaskConfig LeverPull::Config() {
   config.obj_low = {-0.1, 0.7, 0.0};
   config.obj_high = {0.1, 0.8, 0.0};
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

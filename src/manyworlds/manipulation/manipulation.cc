@@ -115,15 +115,6 @@ const std::vector<TaskEntry>& Tasks() {
   return tasks;
 }
 
-std::string TasksWithRewardV1() {
-  std::string ids;
-  for (const TaskEntry& task : Tasks()) {
-    const SawyerTaskConfig config = task.config();
-    if (config.has_reward_v1) ids += (ids.empty() ? "" : ", ") + config.id;
-  }
-  return ids.empty() ? "none" : ids;
-}
-
 std::vector<OptionSpec> SuiteOptions() {
   return {
       {"goal_observable", OptionType::kBool, true,
@@ -132,7 +123,7 @@ std::vector<OptionSpec> SuiteOptions() {
        "throw on MuJoCo warnings during a step instead of truncating the episode"},
       {"reward_version", OptionType::kString, "v2",
        "Meta-World's reward_function_version: v2 (v3's default, in [0, 10]) or v1 (the "
-       "original shaped reward, where the task has it)",
+       "original shaped reward)",
        {"v2", "v1"}},
   };
 }
@@ -143,18 +134,13 @@ void RegisterManipulationSuite(Registry& registry) {
   for (const TaskEntry& task : Tasks()) {
     const SawyerTaskConfig config = task.config();
     registry.Add({config.id, "manipulation", config.description, SuiteOptions(),
-                  [make = task.make_env, config](const Options& options) {
+                  [make = task.make_env](const Options& options) {
                     SawyerOptions sawyer;
                     sawyer.goal_observable = options.Bool("goal_observable");
                     sawyer.throw_on_sim_warning = options.Bool("throw_on_sim_warning");
                     sawyer.reward_version = options.String("reward_version") == "v1"
                                                 ? RewardVersion::kV1
                                                 : RewardVersion::kV2;
-                    if (sawyer.reward_version == RewardVersion::kV1 && !config.has_reward_v1) {
-                      throw ConfigError("env '" + config.id +
-                                        "': reward_version=v1 is not available for this task "
-                                        "yet; tasks with it: " + TasksWithRewardV1());
-                    }
                     return make(sawyer);
                   }});
   }

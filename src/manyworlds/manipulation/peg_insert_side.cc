@@ -65,7 +65,6 @@ SawyerTaskConfig PegInsertSide::Config() {
   config.goal_low = {-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]};
   config.goal_high = {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]};
   config.min_obj_goal_xy = 0.0;
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -18,7 +18,6 @@ SawyerTaskConfig PickPlace::Config() {
   config.obj_high = {0.1, 0.7, 0.02};
   config.goal_low = {-0.1, 0.8, 0.05};
   config.goal_high = {0.1, 0.9, 0.3};
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -23,7 +23,6 @@ SawyerTaskConfig Push::Config() {
   config.goal_low = {-0.1, 0.8, 0.01};
   config.goal_high = {0.1, 0.9, 0.02};
   config.goal_z_at_object = true;
-  config.has_reward_v1 = true;
   return config;
 }
 

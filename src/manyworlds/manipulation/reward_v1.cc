@@ -15,26 +15,34 @@ double ReachThenProgress(double reach_dist, double max_dist, double d, bool clam
   return -reach_dist + (clamp ? std::max(bonus, 0.0) : bonus);
 }
 
+double Reach(const SawyerState& s, const Vec3& point, double gripper_action, double xy_radius,
+             double z_weight, double grip_radius) {
+  const double dist = Distance(point, s.tcp);
+  if (dist < grip_radius) return -dist + std::max(gripper_action, 0.0) / 50.0;
+  const double xy = std::hypot(point[0] - s.tcp[0], point[1] - s.tcp[1]);
+  return xy < xy_radius ? -dist : -xy - z_weight * std::abs(s.tcp[2] - s.tcp_init[2]);
+}
+
+bool Dropped(const SawyerState& s, double obj_z, double place_dist, double reach_dist) {
+  return obj_z < s.v1_obj_height + 0.005 && place_dist > 0.02 && reach_dist > 0.02;
+}
+
+double LiftBonus(const SawyerState& s, double obj_z, bool held, bool near, double floor) {
+  if (held) return 100.0 * (s.v1_height_target - floor);
+  if (near && obj_z > s.v1_obj_height + 0.005) {
+    return 100.0 * (std::min(s.v1_height_target, obj_z) - floor);
+  }
+  return 0.0;
+}
+
 PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
                          double progress_dist, double z_weight, bool lift_from_start) {
   const double reach_dist = Distance(s.obj, s.tcp);
-  const double reach_xy = std::hypot(s.obj[0] - s.tcp[0], s.obj[1] - s.tcp[1]);
-  const double z_rise = std::abs(s.tcp[2] - s.tcp_init[2]);
-  double reach = reach_xy < 0.05 ? -reach_dist : -reach_xy - z_weight * z_rise;
-  // v3: the finger-closing incentive replaces the reach term near the object
-  if (reach_dist < 0.05) reach = -reach_dist + std::max(gripper_action, 0.0) / 50.0;
-
-  const double height_target = s.v1_height_target;
-  const bool picked = s.obj[2] >= height_target - 0.01;
-  const bool dropped =
-      s.obj[2] < s.v1_obj_height + 0.005 && place_dist > 0.02 && reach_dist > 0.02;
-  const double floor = lift_from_start ? s.v1_obj_height - 0.02 : 0.0;
-  double pick = 0;
-  if (picked && !dropped) {
-    pick = 100.0 * (height_target - floor);
-  } else if (reach_dist < 0.1 && s.obj[2] > s.v1_obj_height + 0.005) {
-    pick = 100.0 * (std::min(height_target, s.obj[2]) - floor);
-  }
+  const double reach = Reach(s, s.obj, gripper_action, 0.05, z_weight, 0.05);
+  const bool picked = s.obj[2] >= s.v1_height_target - 0.01;
+  const bool dropped = Dropped(s, s.obj[2], place_dist, reach_dist);
+  const double pick = LiftBonus(s, s.obj[2], picked && !dropped, reach_dist < 0.1,
+                                lift_from_start ? s.v1_obj_height - 0.02 : 0.0);
   double place = 0;
   if (picked && reach_dist < 0.1 && !dropped) {
     place = std::max(Progress(s.v1_max_dist, progress_dist), 0.0);

@@ -7,6 +7,8 @@
 #ifndef MANYWORLDS_MANIPULATION_REWARD_V1_H_
 #define MANYWORLDS_MANIPULATION_REWARD_V1_H_
 
+#include <limits>
+
 #include "manyworlds/manipulation/sawyer_task.h"
 
 namespace manyworlds::manipulation::v1 {
@@ -19,6 +21,25 @@ double Progress(double max_dist, double d);
 // -reach_dist, plus, once reach_dist < 0.05, Progress(max_dist, d) (clamped
 // at 0 where `clamp`): the v1 reward of the push, pull, press and turn tasks.
 double ReachThenProgress(double reach_dist, double max_dist, double d, bool clamp = true);
+
+// v1's reach term toward `point`: -|point - tcp| within xy_radius of it in
+// the plane, else -(planar distance) - z_weight |tcp z - tcp z at reset|
+// (v3 goes xy-first); within grip_radius, -|point - tcp| + max(a[3], 0) / 50
+// (the finger-closing incentive).
+double Reach(const SawyerState& s, const Vec3& point, double gripper_action, double xy_radius,
+             double z_weight, double grip_radius);
+// xy_radius for the rewards whose reach is the plain distance (no xy-first).
+inline constexpr double kNoXyFirst = std::numeric_limits<double>::infinity();
+
+// The object counts as dropped: below its start height + 5 mm, more than
+// 2 cm from the goal and from the tcp.
+bool Dropped(const SawyerState& s, double obj_z, double place_dist, double reach_dist);
+
+// The lift bonus: 100 (height target - floor) while `held`, else
+// 100 (min(height target, obj_z) - floor) while `near` and the object is
+// 5 mm above its start height, else 0. floor: 0 except where v3 counts the
+// lift from elsewhere.
+double LiftBonus(const SawyerState& s, double obj_z, bool held, bool near, double floor = 0.0);
 
 // The pick-and-place v1 reward (pick-place, and the tasks that copy it):
 // reach (with v3's xy-first shaping and the finger-closing incentive), a lift

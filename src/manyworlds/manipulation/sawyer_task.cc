@@ -295,7 +295,7 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   for (const Vec3* v : {&state.hand, &state.tcp, &state.left_pad, &state.right_pad, &state.obj,
                         &state.goal, &state.obj_init, &state.tcp_init, &state.hand_init,
                         &state.obj_head, &state.obj_head_init, &state.handle_init,
-                        &state.obj2, &state.obj2_init, &state.left_finger}) {
+                        &state.obj2, &state.obj2_init, &state.left_finger, &state.obj2_head}) {
     for (double x : *v) {
       if (!std::isfinite(x)) throw Error("env '" + config_.id + "': EvaluateReward: a position is not finite");
     }
@@ -305,7 +305,7 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   }
   if (!std::isfinite(state.joint_qpos) || !std::isfinite(state.obj_to_target_init) ||
       !std::isfinite(state.v1_max_dist) || !std::isfinite(state.v1_obj_height) ||
-      !std::isfinite(state.v1_height_target)) {
+      !std::isfinite(state.v1_height_target) || !std::isfinite(state.v1_max_dist2)) {
     throw Error("env '" + config_.id + "': EvaluateReward: joint_qpos, obj_to_target_init or a v1_ field is not finite");
   }
   for (double x : state.obj_quat) {
@@ -313,10 +313,6 @@ RewardTerms SawyerTask::EvaluateReward(const SawyerState& state,
   }
   return options_.reward_version == RewardVersion::kV1 ? ComputeRewardV1(state, clipped)
                                                       : ComputeReward(state, clipped);
-}
-
-RewardTerms SawyerTask::ComputeRewardV1(const SawyerState&, std::span<const float>) const {
-  throw Error("env '" + config_.id + "' has no reward version v1");
 }
 
 void SawyerTask::RefreshState() {

@@ -87,8 +87,6 @@ struct SawyerTaskConfig {
   // The body whose orientation obs[7:11] holds where v3 reads another than
   // the object point's (a fixture's fixed base); empty: body "obj".
   std::string obj_quat_body;
-  // The task implements Meta-World's v1 reward (ComputeRewardV1).
-  bool has_reward_v1 = false;
 };
 
 // Meta-World's reward_function_version: "v2" (v3's default, rewards in
@@ -119,8 +117,10 @@ struct SawyerState {
   Vec3 hand_init{};  // the configured hand start [hand_init_pos]
   double gripper_opening = 0;  // obs[3]
   bool touching_obj = false;   // pads in contact with the object [touching_main_object]
-  // peg-insert-side, stick-pull (zeros elsewhere)
-  Vec3 obj_head{};       // the peg's head [site "pegHead"]; the stick's end [site "stick_end"]
+  // peg-insert-side, stick-pull, assembly, disassemble, hammer (zeros elsewhere)
+  // the peg's head [site "pegHead"]; the stick's end [site "stick_end"];
+  // the nut's ring [site "RoundNut"]; the hammer's head (v1) [geom "HammerHead"]
+  Vec3 obj_head{};
   Vec3 obj_head_init{};  // [peg_head_pos_init]
   // articulated tasks (zeros where a task has no such quantity)
   // The fixture joint in Meta-World's sign convention: the door hinge,
@@ -154,6 +154,12 @@ struct SawyerState {
   // handle rewards read in place of the tcp. Ours is the left pad's site
   // (the same point as left_pad); in v3 it differs from the pad's centre.
   Vec3 left_finger{};
+  // v1 of the tool-use tasks: the second normaliser [maxPushDist
+  // (stick-push), maxPullDist (stick-pull)] and the second object's point
+  // the hammer's v1 reads [site "nailHead"] (obj_head is then the hammer's
+  // head [geom "HammerHead"]).
+  double v1_max_dist2 = 0;
+  Vec3 obj2_head{};
 };
 
 // Names of SawyerState's fields, in declaration order (the Python record's keys).
@@ -164,7 +170,8 @@ inline constexpr const char* kSawyerStateFields[] = {
     "joint_qpos", "handle_init", "obj_to_target_init",  // articulated tasks
     "obj_quat",
     "obj2", "obj2_init",  // tool-use tasks
-    "v1_max_dist", "v1_obj_height", "v1_height_target", "left_finger"};  // reward version v1
+    "v1_max_dist", "v1_obj_height", "v1_height_target", "left_finger",  // reward version v1
+    "v1_max_dist2", "obj2_head"};
 
 // One step's reward and info values.
 struct RewardTerms {
@@ -190,7 +197,6 @@ class SawyerTask : public Env {
   // The env's reward version (SawyerOptions) decides which reward.
   RewardTerms EvaluateReward(const SawyerState& state, std::span<const float> action) const;
   RewardVersion reward_version() const { return options_.reward_version; }
-  bool HasRewardV1() const { return config_.has_reward_v1; }
   long sim_warning_count() const { return sim_warning_count_; }
 
   // Writes the complete MJCF of the current variation (objects, fixtures,
@@ -208,10 +214,10 @@ class SawyerTask : public Env {
   // The task's reward and info for the state after a step. Pure.
   virtual RewardTerms ComputeReward(const SawyerState& state,
                                     std::span<const float> action) const = 0;
-  // The same under reward version v1 (tasks with HasRewardV1). Pure. The
-  // default throws Error.
+  // The same under reward version v1 (Meta-World's original shaped
+  // reward; reward_v1.h has the shared pieces). Pure.
   virtual RewardTerms ComputeRewardV1(const SawyerState& state,
-                                      std::span<const float> action) const;
+                                      std::span<const float> action) const = 0;
 
   TaskState DoSampleTaskState(Rng& task_rng) override;
   TaskState DoGetTaskState() const override;

@@ -30,7 +30,6 @@ SawyerTaskConfig ShelfPlace::Config() {
   config.obj_high = {0.1, 0.6, kHalfBlock};
   config.goal_low = {-0.1, 0.8, kGoalHeight};
   config.goal_high = {0.1, 0.9, kGoalHeight};
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -26,7 +26,6 @@ SawyerTaskConfig Sweep::Config() {
   // Only bounds the observation: the goal is DeriveGoal's.
   config.goal_low = {0.49, 0.6, 0.0};
   config.goal_high = {0.51, 0.7, 0.02};
-  config.has_reward_v1 = true;
   return config;
 }
 

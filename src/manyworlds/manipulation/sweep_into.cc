@@ -24,7 +24,6 @@ SawyerTaskConfig SweepInto::Config() {
   // The pocket does not move: the goal is one point.
   config.goal_low = {0.0, 0.84, 0.02};
   config.goal_high = {0.0, 0.84, 0.02};
-  config.has_reward_v1 = true;
   return config;
 }
 

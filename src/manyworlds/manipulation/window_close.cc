@@ -35,7 +35,6 @@ SawyerTaskConfig WindowClose::Config() {
   config.obj_high = {0.0, 0.9, 0.2};
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -32,7 +32,6 @@ SawyerTaskConfig WindowOpen::Config() {
   config.obj_high = {0.1, 0.9, 0.16};
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

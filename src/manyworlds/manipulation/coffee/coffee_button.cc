@@ -29,7 +29,6 @@ SawyerTaskConfig CoffeeButton::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "coffee_machine";
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

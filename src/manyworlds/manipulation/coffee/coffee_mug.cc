@@ -36,7 +36,6 @@ constexpr double kHeld = 0.02;
 SawyerTaskConfig CoffeeMugTask::BaseConfig() {
   SawyerTaskConfig config;
   config.hand_init = {0.0, 0.4, 0.2};
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -5,11 +5,13 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
 namespace {
 
 constexpr double kTargetRadius = 0.05;
+constexpr double kV1Lift = 0.1;  // v3's liftThresh
 
 }  // namespace
 
@@ -32,6 +34,11 @@ BinPicking::BinPicking(SawyerOptions options) : SawyerTask(Config(), options) {}
 
 void BinPicking::InitTaskState(SawyerState& s) const {
   s.obj_to_target_init = Distance(s.obj, s.goal);
+  // v1: v3 lifts from the cube's height at reset; its normaliser is planar
+  s.v1_obj_height = s.obj[2];
+  s.v1_height_target = s.obj[2] + kV1Lift;
+  s.v1_max_dist =
+      std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]) + s.v1_height_target;
 }
 
 RewardTerms BinPicking::ComputeReward(const SawyerState& s, std::span<const float> action) const {
@@ -64,6 +71,38 @@ RewardTerms BinPicking::ComputeReward(const SawyerState& s, std::span<const floa
   terms.grasp_reward = grasped;
   terms.in_place_reward = in_place;
   terms.obj_to_target = obj_to_target;
+  return terms;
+}
+
+RewardTerms BinPicking::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const double grip = action[3];
+  const double reach_dist = Distance(s.obj, s.tcp);
+  // v3 measures the placing distance in the plane, to bin B's origin
+  const double place_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  const double reach = v1::Reach(s, s.obj, grip, 0.06, 1.0, 0.05);
+  const bool picked = s.obj[2] >= s.v1_height_target - 0.01;
+  const bool dropped = v1::Dropped(s, s.obj[2], place_dist, reach_dist);
+  const bool over_goal =
+      std::abs(s.obj[0] - s.goal[0]) < 0.05 && std::abs(s.obj[1] - s.goal[1]) < 0.05;
+  const bool placed = over_goal && s.obj[2] < s.v1_obj_height + 0.05;
+  const double pick = v1::LiftBonus(s, s.obj[2], placed || (picked && !dropped), reach_dist < 0.1);
+  const double progress = std::max(v1::Progress(s.v1_max_dist, place_dist), 0.0);
+  // v3: over bin B, opening the gripper pays (-200 a[3]); once placed, that
+  // and the progress bonus are the whole reward
+  const double release = -200.0 * grip;
+  double reward = 0;
+  if (placed) {
+    reward = release + progress;
+  } else {
+    double place = 0;
+    if (picked && reach_dist < 0.1 && !dropped) place = over_goal ? release + progress : progress;
+    reward = reach + pick + place;
+  }
+  RewardTerms terms;
+  terms.reward = reward;
+  // v3's evaluate_state on v1's (reward, False, False, planar distance, 0, 0)
+  terms.success = place_dist <= kTargetRadius;
+  terms.obj_to_target = place_dist;
   return terms;
 }
 

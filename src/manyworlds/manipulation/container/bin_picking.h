@@ -31,6 +31,15 @@
 //   "hand within 4 cm of the cube" is the grip height in both. Our opening
 //   is 0.5 closed on the cube and 0.2 closed on nothing: opening < 0.43
 //   means shut without it, as in v3.
+//   v1 (reward_version=v1): pick-place's reach, lift and place terms with
+//   v3's bin-picking changes: the placing distance is planar (to bin B's
+//   origin), the reach goes xy-first beyond 6 cm (tcp height change
+//   weighted 1), lift target 10 cm above the cube's start, normaliser
+//   |obj_init.xy - goal.xy| + lift target; with the cube within 5 cm of
+//   bin B's origin in x and y, -200 a[3] is added (open to release), and
+//   once it also rests low (below its start height + 5 cm) the reward is
+//   that plus the place bonus alone. success: planar distance <= 0.05;
+//   obj_to_target the planar distance; the other info fields 0 (as v3).
 #ifndef MANYWORLDS_MANIPULATION_CONTAINER_BIN_PICKING_H_
 #define MANYWORLDS_MANIPULATION_CONTAINER_BIN_PICKING_H_
 
@@ -46,6 +55,8 @@ class BinPicking : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
 };
 

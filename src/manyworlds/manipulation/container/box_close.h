@@ -30,6 +30,14 @@
 //   frame), so ready and floor mean the same hand positions. It is 4 cm
 //   across (v3's bar 1.6 cm): our fingers squeeze in proportion to how far
 //   they stay from closed, and held v3's bar with 1 N (the lid slipped).
+//   v1 (reward_version=v1): pick-place's v1 on the lid frame (obs[4:7]):
+//   reach xy-first beyond 5 cm (tcp height change weighted 2), lift target
+//   v3's objHeight + 0.12, place bonus toward the goal while lifted;
+//   v3's objHeight is its handle's height at reset, 0.14732, read while its
+//   dropped lid is still 7.9 cm above the rest pose it settles into, ours;
+//   so the lift (lid frame >= 0.257) and the drop test (below 0.152) are
+//   the same heights above the same rest pose as v3's. success
+//   |obs[4:7] - goal| < 0.08; the other info fields 0 (as v3).
 #ifndef MANYWORLDS_MANIPULATION_CONTAINER_BOX_CLOSE_H_
 #define MANYWORLDS_MANIPULATION_CONTAINER_BOX_CLOSE_H_
 
@@ -45,6 +53,9 @@ class BoxClose : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
 
  private:

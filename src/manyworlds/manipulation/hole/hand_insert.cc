@@ -27,7 +27,6 @@ SawyerTaskConfig HandInsert::Config() {
   config.goal_low = {-0.04, 0.8, -0.0201};
   config.goal_high = {0.04, 0.88, -0.0199};
   config.obj_quat = QuatLayout::kWxyz;
-  config.has_reward_v1 = true;
   return config;
 }
 

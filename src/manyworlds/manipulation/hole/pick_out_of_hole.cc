@@ -20,7 +20,6 @@ SawyerTaskConfig PickOutOfHole::Config() {
   config.goal_low = {-0.1, 0.5, 0.15};
   config.goal_high = {0.1, 0.6, 0.3};
   config.obj_quat = QuatLayout::kWxyz;
-  config.has_reward_v1 = true;
   return config;
 }
 

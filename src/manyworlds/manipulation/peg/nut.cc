@@ -6,6 +6,7 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -23,6 +24,11 @@ constexpr double kRestHeight = 0.019;
 constexpr double kAssemblyPegBelowGoal = 0.05;
 constexpr double kDisassembleGoalAbove = 0.15;
 constexpr double kDisassemblePegAbove = 0.03;  // the peg's centre above the nut
+// v1: v3's obj_height for assembly (its handle's height at reset, its nut
+// placed 1 mm above our rest pose) and lift heights (liftThresh).
+constexpr double kV1AssemblyObjHeight = 0.0199455;
+constexpr double kV1AssemblyLift = 0.1;
+constexpr double kV1DisassembleLift = 0.05;
 
 double QuatReward(const SawyerState& s) {
   double sum = 0;
@@ -176,6 +182,68 @@ RewardTerms Disassemble::ComputeReward(const SawyerState& s, std::span<const flo
                           0.9 * LongTailTolerance(Distance(above, ring), 0.0, 0.02, 0.2);
   return NutReward(s, GrabReward(s, action[3], /*medium_density=*/false), in_place,
                    s.obj[2] > s.goal[2]);
+}
+
+void Assembly::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, kV1AssemblyObjHeight, kV1AssemblyLift);
+}
+
+RewardTerms Assembly::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const Vec3& ring = s.obj_head;  // v3's RoundNut body
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double reach = v1::Reach(s, s.obj, action[3], 0.04, 1.0, 0.04);
+  const double place_dist = std::hypot(ring[0] - s.goal[0], ring[1] - s.goal[1]);
+  const double sink = std::abs(ring[2] - s.v1_obj_height);  // v3's placingDistFinal
+  const bool picked = ring[2] >= s.v1_height_target - 0.01 && reach_dist < 0.03;
+  const bool dropped = v1::Dropped(s, ring[2], place_dist, reach_dist);
+  const bool over_peg =
+      std::abs(ring[0] - s.goal[0]) < 0.03 && std::abs(ring[1] - s.goal[1]) < 0.03;
+  const double pick =
+      v1::LiftBonus(s, ring[2], over_peg || (picked && !dropped), reach_dist < 0.04);
+  double place = 0;
+  if (over_peg || (picked && reach_dist < 0.04 && !dropped)) {
+    place = v1::Progress(s.v1_max_dist, place_dist);
+    // over the peg, lowering the ring back to its start height pays more
+    if (over_peg) {
+      place += 2000.0 * (s.v1_height_target - sink) +
+               2000.0 * (std::exp(-sink * sink / 0.003) + std::exp(-sink * sink / 0.0003));
+    }
+    place = std::max(place, 0.0);
+  }
+  RewardTerms terms;
+  terms.reward = reach + pick + place;
+  // v3's evaluate_state on v1's (reward, 0, 0, 0, success)
+  terms.success = over_peg && sink <= 0.04;
+  return terms;
+}
+
+void Disassemble::InitTaskState(SawyerState& s) const {
+  v1::InitPickPlace(s, s.obj_init[2], kV1DisassembleLift);
+}
+
+RewardTerms Disassemble::ComputeRewardV1(const SawyerState& s,
+                                         std::span<const float> action) const {
+  const Vec3& ring = s.obj_head;  // v3's RoundNut body
+  const double reach_dist = Distance(s.obj, s.tcp);
+  double reach = v1::Reach(s, s.obj, action[3], 0.04, 2.0, 0.04);
+  const double place_dist = Distance(s.obj, s.goal);
+  const bool picked = s.obj[2] >= s.v1_height_target - 0.01 && reach_dist < 0.04;
+  const bool dropped = v1::Dropped(s, s.obj[2], place_dist, reach_dist);
+  double pick = v1::LiftBonus(s, s.obj[2], picked && !dropped, reach_dist < 0.04);
+  double place = 0;
+  if (picked && reach_dist < 0.03 && !dropped) {
+    place = std::max(v1::Progress(s.v1_max_dist, place_dist), 0.0);
+  }
+  // v3: off the peg (the ring 5 cm from its axis, which stands at the
+  // nut's start), no reach term and the full lift bonus
+  if (std::abs(ring[0] - s.obj_init[0]) > 0.05 || std::abs(ring[1] - s.obj_init[1]) > 0.05) {
+    reach = 0.0;
+    pick = 100.0 * s.v1_height_target;
+  }
+  RewardTerms terms;
+  terms.reward = reach + pick + place;
+  terms.success = s.obj[2] > s.goal[2];
+  return terms;
 }
 
 void AssemblyScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -37,6 +37,21 @@
 //   in_place = 0.1 [ring z > 0.02] + 0.9 tol(|goal + (0, 0, 0.1) - ring|,
 //     (0, 0.02), margin 0.2)
 // (tol: long-tail tolerance.)
+// v1 (reward_version=v1), both on the handle (obs[4:7]) for the reach
+// (xy-first beyond 4 cm; finger-closing incentive within 4 cm) and on the
+// ring's centre for lift and place; info fields 0 (as v3):
+//   assembly: lift target v3's obj_height + 0.1 (obj_height the handle's
+//     height at reset, 0.0199455: v3 places its nut 1 mm above the rest
+//     pose ours starts in); held = ring at the lift target with the tcp
+//     within 3 cm of the handle; placing distance planar, to the peg's top;
+//     over the peg (3 cm in x and y) the lift bonus is full and the place
+//     bonus adds 2000 (lift target - s) + 2000 (exp(-s^2 / 0.003) +
+//     exp(-s^2 / 0.0003)), s = |ring z - obj_height|; success: over the
+//     peg with s <= 0.04
+//   disassemble: lift target the nut's start height + 0.05; placing
+//     distance |handle - goal|; the place bonus needs the tcp within 3 cm
+//     of the handle; once the ring is 5 cm off the peg's axis in x or y the
+//     reach term is 0 and the lift bonus full; success obs[6] > goal z
 #ifndef MANYWORLDS_MANIPULATION_PEG_NUT_H_
 #define MANYWORLDS_MANIPULATION_PEG_NUT_H_
 
@@ -69,6 +84,9 @@ class Assembly : public NutTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
 };
 
 class Disassemble : public NutTask {
@@ -78,6 +96,9 @@ class Disassemble : public NutTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   TaskState DoSampleTaskState(Rng& task_rng) override;
   // goal = obj + (0, 0, 0.15).
   Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;

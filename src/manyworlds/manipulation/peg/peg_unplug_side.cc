@@ -34,7 +34,6 @@ SawyerTaskConfig PegUnplugSide::Config() {
   }
   config.min_obj_goal_xy = 0.0;
   config.obj_quat = QuatLayout::kWxyz;
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -77,7 +77,6 @@ SawyerTaskConfig ButtonPress::Config() {
   config.obj_low = {-0.1, 0.85, 0.115};
   config.obj_high = {0.1, 0.9, 0.115};
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 
@@ -119,7 +118,6 @@ SawyerTaskConfig ButtonPressWall::Config() {
   config.obj_low = {-0.05, 0.85, 0.1149};
   config.obj_high = {0.05, 0.9, 0.1151};
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

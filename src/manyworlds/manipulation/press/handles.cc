@@ -36,7 +36,6 @@ SawyerTaskConfig Base(const char* id, const char* description, bool side) {
   config.xml_file = side ? "handle_press_side.xml" : "handle_press.xml";
   config.hand_init = {0.0, 0.6, 0.2};
   config.obj_quat = QuatLayout::kZeros;
-  config.has_reward_v1 = true;
   return config;
 }
 

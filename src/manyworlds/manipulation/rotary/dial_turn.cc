@@ -31,7 +31,6 @@ SawyerTaskConfig DialTurn::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "dial_base";
   UseGoalOffset(kGoalOffset, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

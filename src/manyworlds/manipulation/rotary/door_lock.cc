@@ -89,7 +89,6 @@ SawyerTaskConfig DoorLock::Config() {
   config.id = "door-lock";
   config.description = "Sawyer arm: turn a door's lock down";
   UseGoalOffset(kLockGoal, config);
-  config.has_reward_v1 = true;
   return config;
 }
 
@@ -118,7 +117,6 @@ SawyerTaskConfig DoorUnlock::Config() {
   config.id = "door-unlock";
   config.description = "Sawyer arm: turn a door's lock back up";
   UseGoalOffset(kUnlockGoal, config);
-  config.has_reward_v1 = true;
   return config;
 }
 

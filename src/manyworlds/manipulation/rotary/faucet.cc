@@ -31,7 +31,6 @@ SawyerTaskConfig BaseConfig(double side) {
   config.hand_high = {0.5, 1.0, 0.5};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "faucet_base";
-  config.has_reward_v1 = true;
   return config;
 }
 

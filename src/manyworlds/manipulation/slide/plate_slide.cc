@@ -26,7 +26,6 @@ SawyerTaskConfig PlateConfig(const char* id, const char* description, const char
   config.goal_low = goal_low;
   config.goal_high = goal_high;
   config.min_obj_goal_xy = 0.0;  // v3 draws without a rule
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -19,7 +19,6 @@ SawyerTaskConfig PushBack::Config() {
   config.goal_low = {-0.1, 0.6, 0.02};
   config.goal_high = {0.1, 0.7, 0.02};
   config.goal_z_at_object = true;
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -27,7 +27,6 @@ SawyerTaskConfig Soccer::Config() {
   config.obj_high = {0.1, 0.7, kBallRadius};
   config.goal_low = {-0.1, 0.8, 0.0};
   config.goal_high = {0.1, 0.9, 0.0};
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -5,6 +5,7 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -14,6 +15,7 @@ constexpr Vec3 kGoal{0.24, 0.74, 0.11};       // v3's site "goal" on its fixed b
 constexpr Vec3 kHeadOffset{0.16, 0.06, 0.0};  // v3's hammer_head - hammer
 constexpr double kHandleHalfLength = 0.07;    // v3's HAMMER_HANDLE_LENGTH / 2
 constexpr double kDrivenIn = 0.09;
+constexpr double kV1Lift = 0.09;  // v3's liftThresh
 // The rest pose on the table (head and handle end down): height of the
 // handle's centre and tilt about y (head up), as v3's hammer settles.
 constexpr double kRestHeight = 0.0284;
@@ -45,6 +47,7 @@ Hammer::Hammer(SawyerOptions options) : SawyerTask(Config(), options) {
   nail_body_ = ids.Body("nail");
   nail_qpos_ = ids.QposAddress("nail_slide");
   nail_dof_ = ids.DofAddress("nail_slide");
+  head_geom_ = ids.Geom("hammer_neck");
 }
 
 Vec3 Hammer::DeriveGoal(const Vec3&, const Vec3&) const { return kGoal; }
@@ -62,6 +65,11 @@ void Hammer::RefreshTaskState(const mjData* d, SawyerState& state) const {
   state.joint_qpos = d->qpos[nail_qpos_];
   const mjtNum* nail = d->xpos + 3 * nail_body_;
   state.obj2 = {nail[0], nail[1], nail[2]};
+  // v1 reads the head's and the nail head's positions (our nail's frame is
+  // its head's centre)
+  const mjtNum* head = d->geom_xpos + 3 * head_geom_;
+  state.obj_head = {head[0], head[1], head[2]};
+  state.obj2_head = state.obj2;
 }
 
 void Hammer::WriteObject2(const mjData* d, float* pos_quat) const {
@@ -96,6 +104,39 @@ RewardTerms Hammer::ComputeReward(const SawyerState& s, std::span<const float> a
   terms.grasp_reward = grab;
   terms.in_place_reward = in_place;
   terms.obj_to_target = 0.0;
+  return terms;
+}
+
+void Hammer::InitTaskState(SawyerState& s) const {
+  // v3 reads its lift reference and normaliser with the hammer at its drawn
+  // height, 0 (the obj_init z), before it settles onto the rest pose ours
+  // starts in; its normaliser measures from the hammer's own start, not the
+  // nail's (obj_init_pos is the hammer's there)
+  s.v1_obj_height = s.obj_init[2];
+  s.v1_height_target = s.obj_init[2] + kV1Lift;
+  const Vec3 lifted{s.obj_init[0], s.obj_init[1], s.v1_height_target};
+  s.v1_max_dist = Distance(lifted, s.obj_init) + s.v1_height_target +
+                  std::abs(s.obj_init[1] - s.goal[1]);
+}
+
+RewardTerms Hammer::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  const Vec3& head = s.obj_head;
+  const Vec3& nail = s.obj2_head;
+  const double hammer_dist = Distance(nail, head);
+  const double screw_dist = std::abs(nail[1] - s.goal[1]);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double reach = v1::Reach(s, s.obj, action[3], v1::kNoXyFirst, 0.0, 0.05);
+  const bool picked = s.obj[2] >= s.v1_height_target - 0.01;
+  const bool dropped = v1::Dropped(s, s.obj[2], hammer_dist, reach_dist);
+  const double pick = v1::LiftBonus(s, s.obj[2], picked && !dropped, reach_dist < 0.1);
+  double hammer = 0;
+  if (picked && reach_dist < 0.1 && !dropped) {
+    hammer = std::max(v1::Progress(s.v1_max_dist, hammer_dist + screw_dist), 0.0);
+  }
+  RewardTerms terms;
+  terms.reward = reach + pick + hammer;
+  // v3's evaluate_state on v1's (reward, 0, 0, 0, nail driven in)
+  terms.success = s.joint_qpos > kDrivenIn;
   return terms;
 }
 

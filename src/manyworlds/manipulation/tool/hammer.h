@@ -18,6 +18,16 @@
 //   success: the nail driven in more than 0.09 (the record's joint_qpos).
 //   info (as v3 names them): near_object = q, grasp_success = g >= 0.5,
 //     grasp_reward = g, in_place_reward = in_place, obj_to_target = 0.
+//   v1 (reward_version=v1): reach the hammer (plain distance;
+//   finger-closing incentive within 5 cm), lift it to 9 cm above its drawn
+//   height (0: 6.2 cm above the rest pose), then while lifted a bonus
+//   toward the head (ours: the head's centre; v3's HammerHead geom, the
+//   record's obj_head) on the nail's head (ours: the nail head's centre;
+//   v3's nailHead site, record obj2_head) plus the nail head's distance in
+//   y from the goal; normaliser 2 x 0.09 + |hammer start y - goal y| (v3
+//   measures from the hammer's start, not the nail's). As v3, the drop test
+//   (below 5 mm) never holds once the hammer has settled. success: the nail
+//   driven in 9 cm; the other info fields 0 (as v3).
 #ifndef MANYWORLDS_MANIPULATION_TOOL_HAMMER_H_
 #define MANYWORLDS_MANIPULATION_TOOL_HAMMER_H_
 
@@ -33,6 +43,9 @@ class Hammer : public SawyerTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
+  void InitTaskState(SawyerState& state) const override;
   Vec3 DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
   void RefreshTaskState(const mjData* d, SawyerState& state) const override;
@@ -42,6 +55,7 @@ class Hammer : public SawyerTask {
   int obj_qpos_ = -1, obj_dof_ = -1;  // the hammer's free joint
   int nail_body_ = -1;
   int nail_qpos_ = -1, nail_dof_ = -1;
+  int head_geom_ = -1;  // the head's centre (v1)
 };
 
 // Grasps the handle at the hammer's centre of mass, lifts the hammer level

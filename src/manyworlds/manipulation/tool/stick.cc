@@ -5,6 +5,7 @@
 
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
+#include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
@@ -15,6 +16,7 @@ constexpr double kCanRadius = 0.06;
 constexpr Vec3 kHandleToCan{0.0, 0.09, 0.0};  // the handle's middle to the can's axis
 constexpr double kHandleHeight = 0.132;         // v3's insertion site above the base
 constexpr double kCanMaxX = 0.406;              // the base's x + the slide's range
+constexpr double kV1Lift = 0.04;                // v3's liftThresh
 
 Vec3 Plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 
@@ -32,6 +34,49 @@ CagingParams StickCaging(double obj_radius) {
 // the stick 1 cm above its start.
 bool Held(const SawyerState& s, const Vec3& stick) {
   return Distance(stick, s.tcp) < 0.02 && s.gripper_opening > 0 && stick[2] - 0.01 > s.obj_init[2];
+}
+
+// stick-pull's "inserted": the stick's end past the handle in x, within
+// 4 cm of it in y and 6 cm in z.
+bool Inserted(const SawyerState& s) {
+  const Vec3& end = s.obj_head;
+  const Vec3& handle = s.obj2;
+  return end[0] >= handle[0] && std::abs(end[1] - handle[1]) <= 0.04 &&
+         std::abs(end[2] - handle[2]) <= 0.06;
+}
+
+// v1 of both stick tasks (v3 writes it twice): reach the stick, lift it
+// 4 cm, then a bonus toward the point v3 reads as "the object", obs[6:9]
+// (the stick's height and the first two values of its quaternion, not the
+// thermos: a v3 quirk kept), and, once that point is within 5 cm of the
+// stick, a second one toward the goal in the plane with Gaussian widths
+// exp_width and exp_width / 10. Info as v3's evaluate_state builds it from
+// v1's (reward, 0, 0, goal distance, 0, 0): a tcp_to_obj of 0 counts as
+// near, a tcp_open of 0 never as grasped.
+RewardTerms StickRewardV1(const SawyerState& s, double grip, double exp_width) {
+  const Vec3 point{s.obj[2], s.obj_quat[0], s.obj_quat[1]};
+  const double goal_dist = std::hypot(point[0] - s.goal[0], point[1] - s.goal[1]);
+  const double place_dist = Distance(s.obj, point);
+  const double reach_dist = Distance(s.obj, s.tcp);
+  const double reach = v1::Reach(s, s.obj, grip, v1::kNoXyFirst, 0.0, 0.05);
+  const bool picked = s.obj[2] >= s.v1_height_target - 0.01;
+  const bool dropped = v1::Dropped(s, s.obj[2], goal_dist, reach_dist);
+  const double pick = v1::LiftBonus(s, s.obj[2], picked && !dropped, reach_dist < 0.1);
+  double bonus = 0;
+  if (picked && reach_dist < 0.1 && !dropped) {
+    bonus = v1::Progress(s.v1_max_dist, place_dist);
+    if (place_dist < 0.05) {
+      const double g2 = goal_dist * goal_dist;
+      bonus += 1000.0 * (s.v1_max_dist2 - goal_dist) +
+               2000.0 * (std::exp(-g2 / exp_width) + std::exp(-g2 / (exp_width / 10.0)));
+    }
+    bonus = std::max(bonus, 0.0);
+  }
+  RewardTerms terms;
+  terms.reward = reach + pick + bonus;
+  terms.near_object = 1.0;
+  terms.obj_to_target = goal_dist;
+  return terms;
 }
 
 // The policies' view: the stick's centre and the handle's middle.
@@ -108,6 +153,15 @@ void StickTask::RefreshTaskState(const mjData* d, SawyerState& state) const {
 void StickTask::InitTaskState(SawyerState& state) const {
   const mjtNum* base = data()->xpos + 3 * base_;
   state.obj2_init = {base[0], base[1], base[2]};
+  // v1: lift 4 cm from the stick's start; the first normaliser from the
+  // stick's start to the thermos's base at the lift height, the second from
+  // that base to the goal in the plane
+  state.v1_obj_height = state.obj_init[2];
+  state.v1_height_target = state.obj_init[2] + kV1Lift;
+  const Vec3 lifted{state.obj2_init[0], state.obj2_init[1], state.v1_height_target};
+  state.v1_max_dist = Distance(lifted, state.obj_init) + state.v1_height_target;
+  state.v1_max_dist2 =
+      std::hypot(state.obj2_init[0] - state.goal[0], state.obj2_init[1] - state.goal[1]);
 }
 
 void StickTask::WriteObject2(const mjData*, float* pos_quat) const {
@@ -205,9 +259,7 @@ RewardTerms StickPull::ComputeReward(const SawyerState& s, std::span<const float
       StickCaging(0.014));
   const bool held = Held(s, stick);
   if (held) grasped = 1.0;
-  const Vec3& end = s.obj_head;
-  const bool inserted = end[0] >= handle[0] && std::abs(end[1] - handle[1]) <= 0.04 &&
-                        std::abs(end[2] - handle[2]) <= 0.06;
+  const bool inserted = Inserted(s);
   const double in_place_and_grasped = HamacherProduct(grasped, stick_in_place);
 
   RewardTerms terms;
@@ -226,6 +278,20 @@ RewardTerms StickPull::ComputeReward(const SawyerState& s, std::span<const float
   terms.grasp_reward = grasped;
   terms.in_place_reward = stick_in_place;
   terms.obj_to_target = handle_to_target;
+  return terms;
+}
+
+RewardTerms StickPush::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  RewardTerms terms = StickRewardV1(s, action[3], 0.001);
+  // v3's v1 success also needs grasp_success, which v1 never reports:
+  // stick-push never succeeds under v1
+  terms.success = false;
+  return terms;
+}
+
+RewardTerms StickPull::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
+  RewardTerms terms = StickRewardV1(s, action[3], 0.01);
+  terms.success = Distance(s.obj2, s.goal) <= 0.12 && Inserted(s);
   return terms;
 }
 

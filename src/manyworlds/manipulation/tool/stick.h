@@ -50,6 +50,17 @@
 //     touch the stick, the gripper is not shut and the stick is 2 cm above
 //     the thermos base; grasp_reward g; in_place_reward stick_in_place;
 //     obj_to_target |handle - goal|.
+//
+// v1 (reward_version=v1, both tasks): reach the stick (plain distance;
+//   finger-closing incentive within 5 cm), lift it 4 cm, then while lifted
+//   a bonus toward v3's obs[6:9] (the stick's height and the first two
+//   values of its quaternion: v3 reads it as the thermos; kept) and, once
+//   that is within 5 cm of the stick, a second toward the goal in the plane
+//   (normalisers: |(thermos base xy, lift target) - stick start| + lift
+//   target, and |thermos base - goal| in the plane). info: near_object 1,
+//   obj_to_target that planar distance, the rest 0; success stick-pull's
+//   v2 rule; stick-push never succeeds (v3's v1 success needs a
+//   grasp_success v1 never reports).
 #ifndef MANYWORLDS_MANIPULATION_TOOL_STICK_H_
 #define MANYWORLDS_MANIPULATION_TOOL_STICK_H_
 
@@ -87,6 +98,8 @@ class StickPush : public StickTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
 };
 
 class StickPull : public StickTask {
@@ -96,6 +109,8 @@ class StickPull : public StickTask {
 
  protected:
   RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
+  RewardTerms ComputeRewardV1(const SawyerState& state,
+                              std::span<const float> action) const override;
 };
 
 // Grasps the stick, lifts it to the can's middle height behind the can and

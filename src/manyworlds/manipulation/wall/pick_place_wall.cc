@@ -14,7 +14,6 @@ SawyerTaskConfig PickPlaceWall::Config() {
   config.id = "pick-place-wall";
   config.description = "Sawyer arm: carry a puck over a wall to a goal in the air";
   config.xml_file = "pick_place_wall.xml";
-  config.has_reward_v1 = true;
   return config;
 }
 

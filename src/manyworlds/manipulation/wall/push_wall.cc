@@ -15,7 +15,6 @@ SawyerTaskConfig PushWall::Config() {
   config.description = "Sawyer arm: push a puck past a wall to a goal on the table";
   config.xml_file = "push_wall.xml";
   config.goal_z_at_object = true;
-  config.has_reward_v1 = true;
   return config;
 }
 

@@ -14,7 +14,6 @@ SawyerTaskConfig ReachWall::Config() {
   config.id = "reach-wall";
   config.description = "Sawyer arm: reach a goal behind a wall";
   config.xml_file = "reach_wall.xml";
-  config.has_reward_v1 = true;
   return config;
 }
 
