@@ -67,7 +67,18 @@ EnvSpec BoxWorldEnv::MakeSpec(const Config& config) {
                          ? "Box world (MuJoCo, generated worlds): reach the target"
                          : "Box world (MuJoCo, generated worlds): push every box to the target";
   spec.action_space = Space::Box(-1.0f, 1.0f, {3});
-  spec.env_obs_space = Space::Box(-inf, inf, {kAgentObs + kBoxObs * config.max_boxes});
+  if (config.targets_per_layout < 1) {
+    throw ConfigError("env '" + id + "': option 'targets_per_layout' must be >= 1, got " +
+                      std::to_string(config.targets_per_layout));
+  }
+  if (config.targets_per_layout > 1 && config.distribution.layout_seed >= 0) {
+    throw ConfigError("env '" + id + "': option 'targets_per_layout' (" +
+                      std::to_string(config.targets_per_layout) +
+                      ") draws a layout per group and needs layout_seed = -1, got layout_seed = " +
+                      std::to_string(config.distribution.layout_seed));
+  }
+  spec.env_obs_space = Space::Box(
+      -inf, inf, {kAgentObs + kBoxObs * config.max_boxes + (config.target_in_obs ? 2 : 0)});
   spec.task_obs_space = Space::Box(-inf, inf, {2});
   spec.info_fields = {"success", "boxes_delivered", "distance", "sim_warnings"};
   spec.max_episode_steps = kEpisodeSteps;
@@ -77,9 +88,35 @@ EnvSpec BoxWorldEnv::MakeSpec(const Config& config) {
 
 BoxWorldEnv::BoxWorldEnv(const Config& config) : Env(MakeSpec(config)), config_(config) {}
 
+void BoxWorldEnv::SeedTask(uint64_t seed) {
+  Env::SeedTask(seed);
+  draws_ = 0;
+  group_layout_ = -1;
+}
+
 TaskState BoxWorldEnv::DoSampleTaskState(Rng& task_rng) {
   try {
-    return TaskState{id(), ToJson(config_.distribution.Sample(task_rng))};
+    if (config_.targets_per_layout <= 1) {
+      return TaskState{id(), ToJson(config_.distribution.Sample(task_rng))};
+    }
+    // a new group: its layout seed comes from the task generator (62 bits,
+    // so that it is a valid layout_seed); the group's targets follow it
+    // (a crowded layout that leaves no room for a target is drawn again,
+    // up to 20 times, as Sample does without groups)
+    WorldDistribution grouped = config_.distribution;
+    if (draws_++ % config_.targets_per_layout != 0) {
+      grouped.layout_seed = group_layout_;
+      return TaskState{id(), ToJson(grouped.Sample(task_rng))};
+    }
+    for (int attempt = 0;; ++attempt) {
+      group_layout_ = static_cast<int64_t>(task_rng.NextU64() >> 2);
+      grouped.layout_seed = group_layout_;
+      try {
+        return TaskState{id(), ToJson(grouped.Sample(task_rng))};
+      } catch (const ConfigError&) {
+        if (attempt + 1 == 20) throw;
+      }
+    }
   } catch (const ConfigError& e) {
     throw ConfigError("env '" + id() + "': " + e.what());
   }
@@ -160,6 +197,11 @@ void BoxWorldEnv::WriteObs(std::span<float> out) const {
     slot[0] = 1.0f;
     for (int j = 0; j < 7; ++j) slot[1 + j] = static_cast<float>(qpos[box_qpos_[k] + j]);
     slot[8] = static_cast<float>(delivered_[k]);
+  }
+  if (config_.target_in_obs && !config_.hide_target) {
+    float* target = out.data() + kAgentObs + kBoxObs * config_.max_boxes;
+    target[0] = static_cast<float>(world_.target[0]);
+    target[1] = static_cast<float>(world_.target[1]);
   }
 }
 

@@ -19,6 +19,9 @@
 //               [+1..3]  position x, y, z
 //               [+4..7]  orientation quaternion w, x, y, z
 //               [+8]     1 once the box has been delivered (complex task)
+//             with target_in_obs, two more values at 8 + 9 max_boxes: the
+//             target x, y (zeros if hide_target), for learners that read
+//             env_obs only (the trainer's policies).
 //   task_obs: Box(2,): the target x, y; zeros if hide_target.
 //   reward:   simple:  -0.001 d(agent, target) per step; a step that ends
 //                      with d < success_radius pays +100 instead and
@@ -67,6 +70,13 @@ class BoxWorldEnv : public Env {
     WorldDistribution distribution = {};
     int max_boxes = 8;  // observation slots, in [1, kMaxBoxesLimit]
     bool hide_target = false;
+    // Append the target x, y to env_obs (the study's observation holds it).
+    bool target_in_obs = false;
+    // > 1: groups of this many consecutive task draws (after SeedTask) share
+    // one layout drawn from the task generator, and only the target varies
+    // within a group (the study's support and query tasks of one round).
+    // Needs distribution.layout_seed = -1.
+    int64_t targets_per_layout = 1;
     bool throw_on_sim_warning = false;
   };
 
@@ -76,6 +86,8 @@ class BoxWorldEnv : public Env {
   explicit BoxWorldEnv(const Config& config);
 
   static const char* IdOf(BoxTask task);
+  // Also restarts the layout groups of targets_per_layout.
+  void SeedTask(uint64_t seed) override;
   const Config& config() const { return config_; }
   // The current world (valid once a task is set).
   const WorldParams& world() const { return world_; }
@@ -112,6 +124,8 @@ class BoxWorldEnv : public Env {
   std::vector<double> ctrl_scale_;  // upper ctrl range of each actuator
   std::vector<uint8_t> delivered_;
   bool reached_ = false;
+  int64_t draws_ = 0;          // task draws since SeedTask (targets_per_layout)
+  int64_t group_layout_ = -1;  // layout seed of the current group
 };
 
 }  // namespace manyworlds::boxworld

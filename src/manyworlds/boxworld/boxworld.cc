@@ -80,6 +80,13 @@ std::vector<OptionSpec> BoxWorldOptions() {
       {"layout_seed", OptionType::kInt, int64_t{-1},
        "-1: every task is a new world; >= 0: every task shares the layout (floor, boxes, "
        "starts) drawn from this seed and only the target varies"},
+      {"targets_per_layout", OptionType::kInt, int64_t{1},
+       ">= 1; > 1: groups of this many consecutive task draws share one layout (drawn per "
+       "group) and differ only in the target (the study's support and query tasks); needs "
+       "layout_seed = -1"},
+      {"target_in_obs", OptionType::kBool, false,
+       "append the target x, y (zeros with hide_target) to the env observation, for learners "
+       "that read only env_obs (the study's observation holds the target)"},
       {"max_boxes", OptionType::kInt, int64_t{8},
        "box slots in the observation (masked), [1, 64]; keep it equal across envs that share a "
        "policy"},
@@ -124,6 +131,8 @@ std::unique_ptr<Env> MakeBoxWorld(BoxTask task, const Options& o) {
   }
   config.max_boxes = static_cast<int>(max_boxes);
   config.hide_target = o.Bool("hide_target");
+  config.target_in_obs = o.Bool("target_in_obs");
+  config.targets_per_layout = o.Int("targets_per_layout");
   config.throw_on_sim_warning = o.Bool("throw_on_sim_warning");
   return std::make_unique<BoxWorldEnv>(config);
 }
