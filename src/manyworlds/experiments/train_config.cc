@@ -122,6 +122,7 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
     r.Read("checkpoint_every", e.checkpoint_every);
     r.Read("keep_checkpoints", e.keep_checkpoints);
     r.Read("run_dir", e.run_dir);
+    r.Read("init_from", e.init_from);
     r.Finish();
   }
   root.Finish();
@@ -193,7 +194,8 @@ nlohmann::json TrainConfig::ToJson() const {
         {"num_threads", experiment.num_threads},
         {"checkpoint_every", experiment.checkpoint_every},
         {"keep_checkpoints", experiment.keep_checkpoints},
-        {"run_dir", experiment.run_dir}}},
+        {"run_dir", experiment.run_dir},
+        {"init_from", experiment.init_from}}},
   };
 }
 

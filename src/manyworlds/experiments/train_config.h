@@ -55,6 +55,9 @@
 //     checkpoint_every: 50000  # env steps per task; 0 = only at the end
 //     keep_checkpoints: 1      # newest checkpoints kept (0 = all)
 //     run_dir: runs/train
+//     init_from: ""            # a checkpoint directory whose learner a new run
+//                              # starts from (fine-tuning); same algorithm and
+//                              # network sizes; "" = fresh networks
 //
 // Only the keys of the chosen algorithm are allowed under agent:, and a
 // config whose replay or off-policy experiment keys differ from their
@@ -109,6 +112,7 @@ struct ExperimentSectionConfig {
   int64_t checkpoint_every = 50000;
   int64_t keep_checkpoints = 1;
   std::string run_dir = "runs/train";
+  std::string init_from;  // checkpoint directory to start a new run from ("" none)
 };
 
 // The agent section: one algorithm's typed config. The variant's

@@ -619,6 +619,21 @@ Trainer Trainer::Create(const TrainConfig& config) {
   }
   auto impl = std::make_unique<Impl>();
   impl->Setup(config, std::move(tasks), std::move(held_out), run_dir);
+  if (!config.experiment.init_from.empty()) {
+    // fine-tuning: the learner starts from another run's checkpoint (a
+    // resumed run reads its own checkpoints instead)
+    const fs::path from = config.experiment.init_from;
+    if (!fs::exists(from / "learner.pt")) {
+      throw ConfigError("experiment.init_from: '" + from.string() +
+                        "' is not a checkpoint directory (no learner.pt)");
+    }
+    try {
+      impl->algorithm->LoadPolicy(from);
+    } catch (const std::exception& e) {
+      throw ConfigError("experiment.init_from: cannot start from '" + from.string() +
+                        "' (same algorithm and network sizes needed): " + e.what());
+    }
+  }
   // nothing is created before the config has proved runnable
   std::error_code ec;
   fs::create_directories(run_dir, ec);
