@@ -32,6 +32,8 @@ void AddBaselinesCommand(CLI::App& app, CommandContext& context);
 // agents layer is (MANYWORLDS_HAS_AGENTS).
 void AddTrainCommand(CLI::App& app, CommandContext& context);
 void AddEvalCommand(CLI::App& app, CommandContext& context);
+// `study boxworld`: the CS330 box-world study (torch_study.cc).
+void AddStudyCommand(CLI::App& app, CommandContext& context);
 // `rollout --policy checkpoint:PATH`: seeded episodes of a trained run's
 // policy (PATH a run directory or one of its checkpoints) on every task of
 // the run; env_id, if not empty, must be the run's env.

@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
 #ifdef MANYWORLDS_HAS_AGENTS
   cli::AddTrainCommand(app, context);
   cli::AddEvalCommand(app, context);
+  cli::AddStudyCommand(app, context);
 #endif
 
   // every failure is one line on stderr; 2 = bad usage or config, 1 = runtime

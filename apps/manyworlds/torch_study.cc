@@ -1,0 +1,205 @@
+// manyworlds study boxworld [--task simple|complex] [--budget X] [--methods a,b] [--out DIR]
+//                           [--hide-target] [--distribution narrow|broad] [--seed N]
+//
+// The CS330 box-world study (experiments/boxworld_study.h): trains and evaluates every
+// method, then prints the table (ours beside the paper's) and writes it as table.json,
+// table.csv and table.md into the output directory. stderr gets a progress line.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "apps/manyworlds/cli_util.h"
+#include "apps/manyworlds/commands.h"
+#include "apps/manyworlds/stop_signals.h"
+#include "manyworlds/core/error.h"
+#include "manyworlds/experiments/boxworld_study.h"
+
+namespace manyworlds::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using experiments::StudyOptions;
+
+struct StudyArgs {
+  StudyOptions options;
+  std::string methods;
+  std::string out;
+  bool json = false;
+};
+
+std::string Clock(double seconds) {
+  if (!(seconds >= 0) || seconds > 1e7) return "?";
+  const auto s = static_cast<long long>(seconds + 0.5);
+  char text[32];
+  if (s >= 3600) {
+    std::snprintf(text, sizeof(text), "%lldh%02lldm", s / 3600, s % 3600 / 60);
+  } else if (s >= 60) {
+    std::snprintf(text, sizeof(text), "%lldm%02llds", s / 60, s % 60);
+  } else {
+    std::snprintf(text, sizeof(text), "%llds", s);
+  }
+  return text;
+}
+
+// One redrawn status line on stderr (as `train`'s): the method, its phase,
+// the running run's steps, bar, env steps/s and ETA.
+class StudyStatus {
+ public:
+  explicit StudyStatus(bool force) : tty_(isatty(STDERR_FILENO) != 0), enabled_(tty_ || force) {}
+  ~StudyStatus() { Clear(); }
+
+  void Update(const experiments::StudyProgress& p) {
+    if (!enabled_) return;
+    const auto now = Steady::now();
+    if (p.phase != phase_ || p.method != method_) {
+      phase_ = p.phase;
+      method_ = p.method;
+      phase_start_ = now;
+      phase_start_step_ = p.train.step;
+    } else if (now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::seconds(5))) {
+      return;
+    }
+    last_ = now;
+    std::string line = "study " + std::to_string(p.method_index + 1) + "/" +
+                       std::to_string(p.num_methods) + " " + p.method + " " + p.phase;
+    if (p.train.total_steps > 0) {
+      const double fraction =
+          static_cast<double>(p.train.step) / static_cast<double>(p.train.total_steps);
+      constexpr int kWidth = 20;
+      std::string bar(kWidth, '.');
+      for (int i = 0; i < static_cast<int>(fraction * kWidth) && i < kWidth; ++i) bar[i] = '#';
+      const double elapsed = std::chrono::duration<double>(now - phase_start_).count();
+      const double done = static_cast<double>(p.train.step - phase_start_step_);
+      const double eta =
+          done > 0 ? elapsed / done * static_cast<double>(p.train.total_steps - p.train.step) : -1;
+      line += " " + Human(static_cast<double>(p.train.step)) + "/" +
+              Human(static_cast<double>(p.train.total_steps)) + " steps/env [" + bar + "] " +
+              Human(p.train.env_steps_per_s) + " env steps/s ETA " + Clock(eta);
+    }
+    Write(line);
+  }
+
+  void Note(const std::string& text) {
+    if (!enabled_) return;
+    Clear();
+    std::cerr << text << "\n";
+  }
+
+ private:
+  using Steady = std::chrono::steady_clock;
+  void Write(const std::string& line) {
+    if (tty_) {
+      std::cerr << "\r" << line << "\033[K" << std::flush;
+      drawn_ = true;
+    } else {
+      std::cerr << line << "\n";
+    }
+  }
+  void Clear() {
+    if (tty_ && drawn_) std::cerr << "\r\033[K" << std::flush;
+    drawn_ = false;
+  }
+
+  bool tty_, enabled_;
+  bool drawn_ = false;
+  std::string phase_, method_;
+  Steady::time_point last_{}, phase_start_{};
+  int64_t phase_start_step_ = 0;
+};
+
+std::vector<std::string> SplitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    item.erase(0, item.find_first_not_of(' '));
+    item.erase(item.find_last_not_of(' ') + 1);
+    if (item.empty()) throw ConfigError("--methods: empty name in '" + text + "'");
+    items.push_back(item);
+  }
+  return items;
+}
+
+void RunStudy(StudyArgs& args, CommandContext& context) {
+  StudyOptions& o = args.options;
+  if (!args.methods.empty()) o.methods = SplitList(args.methods);
+  o.out_dir = args.out.empty() ? fs::path("runs") / ("study_boxworld_" + o.task +
+                                                      (o.distribution == "broad" ? "_broad" : "") +
+                                                      (o.hide_target ? "_hidden" : ""))
+                               : fs::path(args.out);
+  experiments::ValidateStudyOptions(o);
+  StudyStatus status(context.progress);
+  status.Note("study: box-world-" + o.task + ", " + o.distribution + " distribution, target " +
+              (o.hide_target ? "hidden" : "observed") + ", budget x" + Fixed(o.budget, 3) +
+              ", runs in " + o.out_dir.string());
+  experiments::StudyCallbacks callbacks;
+  callbacks.on_progress = [&](const experiments::StudyProgress& p) { status.Update(p); };
+  callbacks.on_row = [&](const experiments::StudyRow& row, bool reused) {
+    status.Note("study: " + row.method + (reused ? " (finished earlier)" : "") + ": success " +
+                Fixed(100 * row.success, 1) + " %, mean reward " + Fixed(row.mean_reward, 2) +
+                " over " + std::to_string(row.episodes) + " episodes");
+  };
+  const StopSignals signals;
+  callbacks.stop_requested = [] { return StopSignals::received() != 0; };
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<experiments::StudyRow> rows = experiments::RunBoxWorldStudy(o, callbacks);
+  experiments::WriteStudyTables(rows, o);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (args.json) {
+    PrintJson(experiments::StudyTableJson(rows, o));
+  } else {
+    std::cout << experiments::StudyTableMarkdown(rows, o);
+  }
+  status.Note("study: done in " + Clock(wall) + " (this session); tables in " +
+              (o.out_dir / "table.{json,csv,md}").string());
+}
+
+}  // namespace
+
+void AddStudyCommand(CLI::App& app, CommandContext& context) {
+  CLI::App* study = app.add_subcommand(
+      "study", "Reproduce a published study on this project's envs (one so far: boxworld)");
+  study->require_subcommand(1);
+  auto args = std::make_shared<StudyArgs>();
+  CLI::App* cmd = study->add_subcommand(
+      "boxworld",
+      "The CS330 box-world study (Malde and Elabd 2022): oracle, baseline, finetune, "
+      "multitask, maml, pearl (and rl2) trained and evaluated on generated box worlds; prints "
+      "mean reward, std, success per method beside the paper's numbers and writes "
+      "table.json, table.csv, table.md. A killed study resumes: finished methods are not run "
+      "again. docs/boxworld.md, section 'The study'");
+  cmd->add_option("--task", args->options.task, "simple (reach the target) or complex (push "
+                  "the box to it)")
+      ->capture_default_str();
+  cmd->add_option("--budget", args->options.budget,
+                  "factor on every method's training steps (1 = the configs' budgets: the "
+                  "simple task in under an hour on two cores)")
+      ->capture_default_str();
+  cmd->add_option("--methods", args->methods,
+                  "comma-separated subset of oracle, baseline, finetune, multitask, maml, "
+                  "pearl, rl2 (default: the paper's six)");
+  cmd->add_option("--out", args->out,
+                  "output directory: one run directory per method and the tables (default "
+                  "runs/study_boxworld_<task>[_broad][_hidden])");
+  cmd->add_option("--configs", args->options.config_dir,
+                  "directory of the methods' configs boxworld_<method>_<task>.yaml")
+      ->capture_default_str();
+  cmd->add_flag("--hide-target", args->options.hide_target,
+                "zero the target in the observation (infer it from rewards)");
+  cmd->add_option("--distribution", args->options.distribution,
+                  "narrow: the paper's 5 m floor and one box, layouts and targets vary; broad: "
+                  "floor 4-8 m and 1-3 boxes of three shapes vary too")
+      ->capture_default_str();
+  cmd->add_option("--seed", args->options.seed, "seed of every run and evaluation")
+      ->capture_default_str();
+  cmd->add_flag("--json", args->json, "print the table as JSON instead of markdown");
+  cmd->callback([args, &context] { RunStudy(*args, context); });
+}
+
+}  // namespace manyworlds::cli

@@ -1,0 +1,137 @@
+// The box-world study (experiments/boxworld_study.h) on a tiny budget: one
+// row per method with finite numbers and the paper's column, resume without
+// rerunning finished methods, and one-line errors for bad options.
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/experiments/boxworld_study.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path SourceDir() {
+  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
+  return dir != nullptr ? fs::path(dir) : fs::path(MANYWORLDS_TEST_SOURCE_DIR);
+}
+
+fs::path Scratch(const std::string& name) {
+  fs::path dir = fs::temp_directory_path() /
+                 ("mw_study_test_" + std::to_string(getpid()) + "_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+StudyOptions Tiny(const std::string& name, std::vector<std::string> methods) {
+  StudyOptions o;
+  o.task = "simple";
+  o.budget = 1e-6;  // every run rounds up to one training iteration
+  o.methods = std::move(methods);
+  o.out_dir = Scratch(name);
+  o.config_dir = SourceDir() / "configs";
+  o.seed = 3;
+  return o;
+}
+
+TEST(BoxWorldStudyTest, TinyBudgetGivesOneFiniteRowPerMethodWithThePapersColumn) {
+  const StudyOptions o = Tiny("rows", PaperMethods());
+  const std::vector<StudyRow> rows = RunBoxWorldStudy(o);
+  ASSERT_EQ(rows.size(), 6u);
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const StudyRow& r = rows[i];
+    EXPECT_EQ(r.method, PaperMethods()[i]);
+    EXPECT_EQ(r.episodes, kTestLayouts * kQueryTargets) << r.method;
+    EXPECT_TRUE(std::isfinite(r.mean_reward)) << r.method;
+    EXPECT_TRUE(std::isfinite(r.std_reward) && r.std_reward >= 0) << r.method;
+    EXPECT_GE(r.success, 0.0);
+    EXPECT_LE(r.success, 1.0);
+    // a return is the +100 (at most once: the episode ends) minus at most
+    // 0.001 x the floor's diagonal per step for 1024 steps
+    EXPECT_GE(r.mean_reward, -1024 * 0.001 * 5 * std::sqrt(2.0)) << r.method;
+    EXPECT_LE(r.mean_reward, 100.0) << r.method;
+    EXPECT_GT(r.train_env_steps, 0) << r.method;
+    ASSERT_TRUE(r.paper.has_value()) << r.method;
+  }
+  EXPECT_DOUBLE_EQ(rows[3].paper->success, 0.929);  // multitask, simple
+  EXPECT_DOUBLE_EQ(rows[0].paper->success, 1.0);    // oracle
+  // the tables
+  WriteStudyTables(rows, o);
+  for (const char* name : {"table.json", "table.csv", "table.md"}) {
+    EXPECT_TRUE(fs::exists(o.out_dir / name)) << name;
+  }
+  const std::string csv = StudyTableCsv(rows);
+  EXPECT_NE(csv.find("multitask,16,"), std::string::npos) << csv;
+  EXPECT_NE(csv.find(",92.90,"), std::string::npos) << csv;
+  const std::string md = StudyTableMarkdown(rows, o);
+  EXPECT_NE(md.find("| maml |"), std::string::npos) << md;
+  EXPECT_NE(md.find("58.9 %"), std::string::npos) << md;
+  fs::remove_all(o.out_dir);
+}
+
+TEST(BoxWorldStudyTest, ResumeSkipsFinishedMethods) {
+  const StudyOptions first = Tiny("resume", {"oracle"});
+  const std::vector<StudyRow> a = RunBoxWorldStudy(first);
+  ASSERT_EQ(a.size(), 1u);
+  const fs::path result = first.out_dir / "oracle" / "result.json";
+  ASSERT_TRUE(fs::exists(result));
+  const auto written = fs::last_write_time(result);
+  // again, with a second method: the oracle is read back, the baseline runs
+  StudyOptions second = first;
+  second.methods = {"oracle", "baseline"};
+  std::vector<std::pair<std::string, bool>> seen;
+  StudyCallbacks callbacks;
+  callbacks.on_row = [&](const StudyRow& row, bool reused) { seen.push_back({row.method, reused}); };
+  bool oracle_trained_again = false;
+  callbacks.on_progress = [&](const StudyProgress& p) {
+    if (p.method == "oracle") oracle_trained_again = true;
+  };
+  const std::vector<StudyRow> b = RunBoxWorldStudy(second, callbacks);
+  ASSERT_EQ(b.size(), 2u);
+  EXPECT_FALSE(oracle_trained_again);
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0], std::make_pair(std::string("oracle"), true));
+  EXPECT_EQ(seen[1], std::make_pair(std::string("baseline"), false));
+  EXPECT_EQ(fs::last_write_time(result), written);
+  EXPECT_DOUBLE_EQ(b[0].mean_reward, a[0].mean_reward);
+  fs::remove_all(first.out_dir);
+}
+
+TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
+  auto message = [](const StudyOptions& o) {
+    try {
+      RunBoxWorldStudy(o);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  StudyOptions o = Tiny("bad", {"oracle"});
+  o.task = "medium";
+  EXPECT_EQ(message(o), "--task must be simple or complex, got 'medium'");
+  o = Tiny("bad", {"oracle", "mamll"});
+  EXPECT_EQ(message(o),
+            "--methods: unknown method 'mamll' (did you mean 'maml'?); the methods are oracle, "
+            "baseline, finetune, multitask, maml, pearl, rl2");
+  o = Tiny("bad", {"oracle"});
+  o.distribution = "wide";
+  EXPECT_EQ(message(o), "--distribution must be narrow or broad, got 'wide'");
+  o = Tiny("bad", {"oracle"});
+  o.budget = -1;
+  EXPECT_NE(message(o).find("--budget must be a factor in (0, 1000]"), std::string::npos);
+  o = Tiny("bad", {"oracle"});
+  o.config_dir = "/nonexistent";
+  EXPECT_NE(message(o).find("no config '/nonexistent/boxworld_oracle_simple.yaml'"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(o.out_dir));  // nothing created for a bad study
+}
+
+}  // namespace
+}  // namespace manyworlds::experiments
