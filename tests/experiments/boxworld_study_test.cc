@@ -118,6 +118,35 @@ TEST(BoxWorldStudyTest, ResumeSkipsFinishedMethods) {
   fs::remove_all(first.out_dir);
 }
 
+TEST(BoxWorldStudyTest, InitFromNeedsAMatchingCheckpoint) {
+  // the fine-tune's starting point (experiment.init_from) is checked when the run is created
+  const StudyOptions o = Tiny("init", {"oracle"});
+  RunBoxWorldStudy(o);
+  const fs::path checkpoint = LatestCheckpoint(o.out_dir / "oracle");
+  auto message = [](TrainConfig c) {
+    try {
+      Trainer::Create(c);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  TrainConfig c = StudyMethodConfig(o, "finetune");
+  c.experiment.run_dir = (o.out_dir / "ft_missing").string();
+  c.experiment.init_from = (o.out_dir / "nowhere").string();
+  EXPECT_NE(message(c).find("is not a checkpoint directory (no learner.pt)"), std::string::npos)
+      << message(c);
+  c.experiment.run_dir = (o.out_dir / "ft_sizes").string();
+  c.experiment.init_from = checkpoint.string();
+  c.agent.as<agents::PpoConfig>().hidden_dim = 32;
+  EXPECT_NE(message(c).find("experiment.init_from: cannot start from"), std::string::npos)
+      << message(c);
+  c.experiment.run_dir = (o.out_dir / "ft_ok").string();
+  c.agent = StudyMethodConfig(o, "finetune").agent;
+  EXPECT_EQ(message(c), "(accepted)");
+  fs::remove_all(o.out_dir);
+}
+
 TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
   auto message = [](const StudyOptions& o) {
     try {
