@@ -292,6 +292,31 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
 namespace manyworlds {
 namespace {
 
+TEST(CliTrainTest, StudyHelpAndBadArgumentsGiveOneErrorLine) {
+  const fs::path dir = ScratchDir();
+  const RunResult help = RunCli("study boxworld --help", dir);
+  EXPECT_EQ(help.exit_code, 0);
+  for (const char* option : {"--task", "--budget", "--methods", "--out", "--hide-target",
+                             "--distribution", "--seed"}) {
+    EXPECT_NE(help.out.find(option), std::string::npos) << option;
+  }
+  const RunResult task = RunCli("study boxworld --task medium", dir);
+  EXPECT_EQ(task.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(task.err)) << task.err;
+  EXPECT_NE(task.err.find("--task must be simple or complex, got 'medium'"), std::string::npos)
+      << task.err;
+  const RunResult methods = RunCli("study boxworld --methods oracle,mamll", dir);
+  EXPECT_EQ(methods.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(methods.err)) << methods.err;
+  EXPECT_NE(methods.err.find("unknown method 'mamll' (did you mean 'maml'?)"), std::string::npos)
+      << methods.err;
+  const RunResult budget = RunCli("study boxworld --budget 0", dir);
+  EXPECT_EQ(budget.exit_code, 2);
+  EXPECT_TRUE(IsOneErrorLine(budget.err)) << budget.err;
+  EXPECT_FALSE(fs::exists(dir / "runs"));  // nothing created
+  fs::remove_all(dir);
+}
+
 TEST(CliTrainTest, AlgorithmErrorsAreOneLineWithExitCode2) {
   const fs::path dir = ScratchDir();
   std::ofstream(dir / "tiny.yaml") << kTinyConfig;
