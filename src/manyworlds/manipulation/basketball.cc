@@ -17,6 +17,9 @@ namespace {
 constexpr Vec3 kGoalOnStand{0.0, -0.083, 0.25};
 constexpr double kTargetHeight = 0.3;
 constexpr double kTargetRadius = 0.08;
+// The ball's centre from the ring's axis that clears the ring on the way
+// up: ring radius 0.085 + tube 0.006 + ball 0.03 + 1.9 cm.
+constexpr double kRingClearance = 0.14;
 constexpr Vec3 kZTwice{1.0, 1.0, 2.0};
 
 }  // namespace
@@ -99,11 +102,19 @@ void BasketballScriptedPolicy::Act(std::span<const float> env_obs, std::span<con
   const Vec3& ball = o.obj1;
   const Vec3 above{o.goal[0], o.goal[1], kTargetHeight};
   const double xy_error = std::hypot(ball[0] - above[0], ball[1] - above[1]);
-  // Straight up first (the ring may be over the ball), then across, above
-  // the ring, to the point over its centre.
-  const Vec3 carry_to = xy_error > 0.02 && ball[2] < kTargetHeight - 0.02
-                            ? Vec3{ball[0], ball[1], kTargetHeight + 0.01}
-                            : above;
+  // Up first, then across above the ring to the point over its centre. A
+  // ball that starts within kRingClearance of the ring's axis would meet the
+  // ring from below on the way up (and be torn from the grip): it is first
+  // carried away from the axis at its own height.
+  Vec3 carry_to = above;
+  if (xy_error > 0.02 && ball[2] < kTargetHeight - 0.02) {
+    carry_to = {ball[0], ball[1], kTargetHeight + 0.01};
+    if (xy_error < kRingClearance) {
+      const double out = (kRingClearance + 0.02) / std::max(xy_error, 1e-6);
+      carry_to = {above[0] + (ball[0] - above[0]) * out, above[1] + (ball[1] - above[1]) * out,
+                  std::max(ball[2], 0.06)};
+    }
+  }
   GraspParams params;
   // Closed on the 6 cm ball the opening is about 0.7.
   params.closed_on_object = 0.8;
