@@ -7,7 +7,8 @@ Run by bench/peers/env_throughput.sh, which makes the virtual environment (.venv
 metaworld, envpool, mujoco and this checkout's manyworlds from PyPI/pip) and passes the
 C++ programs. Every measurement is one thread on one core; rounds are interleaved (every
 method of every task once per round) and the median over rounds is reported, so a noisy
-machine affects all methods alike.
+machine affects all methods alike. Every rate is wall-clock (the C++ benchmark's CPU-time rate
+is converted), so the rows stay comparable when other work shares the machine.
 
 Methods (env steps/s, random actions in [-1, 1]^4 drawn beforehand, episodes of 500 steps):
   mw_env        metaworld v3: gymnasium.make("Meta-World/MT1", env_name="<task>-v3")
@@ -217,7 +218,9 @@ def cpp_bench_manipulation(binary: str, task: str, which: str) -> float:
         check=True, capture_output=True, text=True,
     ).stdout
     bench = json.loads(out)["benchmarks"][0]
-    return float(bench["items_per_second"])
+    # Google Benchmark's items_per_second counts CPU time; every other row here is wall-clock
+    # (and a loaded machine slows the wall clock alone), so convert.
+    return float(bench["items_per_second"]) * float(bench["cpu_time"]) / float(bench["real_time"])
 
 
 def cpp_vec(cli: str, task: str, num_envs: int = 16) -> float:
