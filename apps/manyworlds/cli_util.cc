@@ -186,15 +186,40 @@ void ProgressBar::Advance(int64_t count) {
   }
 }
 
+std::string Bar(double fraction, int width) {
+  const int filled = static_cast<int>(std::clamp(fraction, 0.0, 1.0) * width);
+  return "[" + std::string(filled, '#') + std::string(width - filled, '.') + "]";
+}
+
+StatusLine::StatusLine() : tty_(isatty(STDERR_FILENO) != 0) {}
+
+StatusLine::~StatusLine() { Clear(); }
+
+void StatusLine::Write(const std::string& line) {
+  if (tty_) {
+    std::cerr << "\r" << line << "\033[K" << std::flush;
+    drawn_ = true;
+  } else {
+    std::cerr << line << "\n";
+  }
+}
+
+void StatusLine::Note(const std::string& text) {
+  Clear();
+  std::cerr << text << "\n";
+}
+
+void StatusLine::Clear() {
+  if (tty_ && drawn_) std::cerr << "\r\033[K" << std::flush;
+  drawn_ = false;
+}
+
 void ProgressBar::Draw(bool final) {
   const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
   const double rate = elapsed > 0 ? static_cast<double>(done_) / elapsed : 0.0;
   const double fraction = total_ > 0 ? std::min(1.0, static_cast<double>(done_) / total_) : 1.0;
-  constexpr int kWidth = 24;
-  const int filled = static_cast<int>(fraction * kWidth);
   std::string text = label_ + " " + std::to_string(done_) + "/" + std::to_string(total_) + " " +
-                     unit_ + " [" + std::string(filled, '#') + std::string(kWidth - filled, '.') +
-                     "] " + Human(rate) + " " + unit_ + "/s";
+                     unit_ + " " + Bar(fraction, 24) + " " + Human(rate) + " " + unit_ + "/s";
   if (!final && rate > 0) {
     const auto eta = static_cast<int64_t>(std::ceil((total_ - done_) / rate));
     text += " ETA " + std::to_string(eta) + "s";

@@ -75,6 +75,29 @@ class Table {
   std::vector<std::vector<std::string>> rows_;
 };
 
+// "[#####.....]": a bar `width` characters wide, filled to `fraction` (clamped to [0, 1]).
+std::string Bar(double fraction, int width = 20);
+
+// One status line on stderr: redrawn in place on a terminal, one printed
+// line per Write otherwise. Note prints a line that stays. Clears itself
+// when destroyed.
+class StatusLine {
+ public:
+  StatusLine();
+  ~StatusLine();
+  StatusLine(const StatusLine&) = delete;
+  StatusLine& operator=(const StatusLine&) = delete;
+
+  bool tty() const { return tty_; }
+  void Write(const std::string& line);
+  void Note(const std::string& text);
+  void Clear();
+
+ private:
+  bool tty_;
+  bool drawn_ = false;
+};
+
 // "label 3/7 envs [#####....] 1.2 envs/s ETA 4s" on stderr, redrawn in place
 // on a terminal (at most 10 times a second); with force on a non-terminal,
 // one line per second. Silent otherwise. Clears itself when destroyed.

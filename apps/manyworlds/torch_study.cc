@@ -51,8 +51,7 @@ std::string Clock(double seconds) {
 // the running run's steps, bar, env steps/s and ETA.
 class StudyStatus {
  public:
-  explicit StudyStatus(bool force) : tty_(isatty(STDERR_FILENO) != 0), enabled_(tty_ || force) {}
-  ~StudyStatus() { Clear(); }
+  explicit StudyStatus(bool force) : enabled_(line_.tty() || force) {}
 
   void Update(const experiments::StudyProgress& p) {
     if (!enabled_) return;
@@ -62,7 +61,8 @@ class StudyStatus {
       method_ = p.method;
       phase_start_ = now;
       phase_start_step_ = p.train.step;
-    } else if (now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::seconds(5))) {
+    } else if (now - last_ <
+               (line_.tty() ? std::chrono::milliseconds(100) : std::chrono::seconds(5))) {
       return;
     }
     last_ = now;
@@ -71,43 +71,26 @@ class StudyStatus {
     if (p.train.total_steps > 0) {
       const double fraction =
           static_cast<double>(p.train.step) / static_cast<double>(p.train.total_steps);
-      constexpr int kWidth = 20;
-      std::string bar(kWidth, '.');
-      for (int i = 0; i < static_cast<int>(fraction * kWidth) && i < kWidth; ++i) bar[i] = '#';
       const double elapsed = std::chrono::duration<double>(now - phase_start_).count();
       const double done = static_cast<double>(p.train.step - phase_start_step_);
       const double eta =
           done > 0 ? elapsed / done * static_cast<double>(p.train.total_steps - p.train.step) : -1;
       line += " " + Human(static_cast<double>(p.train.step)) + "/" +
-              Human(static_cast<double>(p.train.total_steps)) + " steps/env [" + bar + "] " +
+              Human(static_cast<double>(p.train.total_steps)) + " steps/env " + Bar(fraction) + " " +
               Human(p.train.env_steps_per_s) + " env steps/s ETA " + Clock(eta);
     }
-    Write(line);
+    line_.Write(line);
   }
 
   void Note(const std::string& text) {
-    if (!enabled_) return;
-    Clear();
-    std::cerr << text << "\n";
+    if (enabled_) line_.Note(text);
   }
 
  private:
   using Steady = std::chrono::steady_clock;
-  void Write(const std::string& line) {
-    if (tty_) {
-      std::cerr << "\r" << line << "\033[K" << std::flush;
-      drawn_ = true;
-    } else {
-      std::cerr << line << "\n";
-    }
-  }
-  void Clear() {
-    if (tty_ && drawn_) std::cerr << "\r\033[K" << std::flush;
-    drawn_ = false;
-  }
 
-  bool tty_, enabled_;
-  bool drawn_ = false;
+  StatusLine line_;
+  bool enabled_;
   std::string phase_, method_;
   Steady::time_point last_{}, phase_start_{};
   int64_t phase_start_step_ = 0;

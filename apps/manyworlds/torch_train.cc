@@ -89,29 +89,25 @@ void PrintEvalTable(const EvalResult& eval, std::ostream& out) {
 // (resume, evaluations) always.
 class TrainStatus {
  public:
-  explicit TrainStatus(bool force)
-      : tty_(isatty(STDERR_FILENO) != 0), enabled_(tty_ || force) {}
-  ~TrainStatus() { Clear(); }
+  explicit TrainStatus(bool force) : enabled_(line_.tty() || force) {}
 
   void Update(const experiments::TrainProgress& p) {
     if (!enabled_) return;
     const auto now = Clock::now();
     const bool done = p.step >= p.total_steps;
-    if (!done && now - last_ < (tty_ ? std::chrono::milliseconds(100) : std::chrono::seconds(2))) {
+    if (!done &&
+        now - last_ < (line_.tty() ? std::chrono::milliseconds(100) : std::chrono::seconds(2))) {
       return;
     }
     last_ = now;
     const double fraction =
         p.total_steps > 0 ? static_cast<double>(p.step) / static_cast<double>(p.total_steps) : 1;
-    constexpr int kWidth = 20;
-    std::string bar(kWidth, '.');
-    for (int i = 0; i < static_cast<int>(fraction * kWidth); ++i) bar[i] = '#';
     const double eta = p.env_steps_per_s > 0 && fraction > 0
                            ? (session_elapsed(p) / std::max(fraction - start_fraction_, 1e-9)) *
                                  (1.0 - fraction)
                            : -1;
     std::string line = "train " + Human(static_cast<double>(p.step)) + "/" +
-                       Human(static_cast<double>(p.total_steps)) + " steps [" + bar + "] " +
+                       Human(static_cast<double>(p.total_steps)) + " steps " + Bar(fraction) + " " +
                        Human(p.env_steps_per_s) + " env steps/s " + Human(p.updates_per_s) +
                        " updates/s";
     if (p.last_eval) {
@@ -119,15 +115,12 @@ class TrainStatus {
                                         : " return " + Fixed(p.last_eval->mean_return, 1);
     }
     line += " ETA " + (eta >= 0 ? Duration(eta) : std::string("?"));
-    Write(line);
+    line_.Write(line);
   }
 
   // Resume and evaluation lines always appear: one line per evaluation is
   // what a run in the background (nohup, a cluster job) should leave in its log.
-  void Note(const std::string& text) {
-    Clear();
-    std::cerr << text << "\n";
-  }
+  void Note(const std::string& text) { line_.Note(text); }
 
   void Start(const experiments::Trainer& trainer, int64_t total) {
     session_start_ = Clock::now();
@@ -139,21 +132,9 @@ class TrainStatus {
   double session_elapsed(const experiments::TrainProgress&) const {
     return std::chrono::duration<double>(Clock::now() - session_start_).count();
   }
-  void Write(const std::string& line) {
-    if (tty_) {
-      std::cerr << "\r" << line << "\033[K" << std::flush;
-      drawn_ = true;
-    } else {
-      std::cerr << line << "\n";
-    }
-  }
-  void Clear() {
-    if (tty_ && drawn_) std::cerr << "\r\033[K" << std::flush;
-    drawn_ = false;
-  }
 
-  bool tty_, enabled_;
-  bool drawn_ = false;
+  StatusLine line_;
+  bool enabled_;
   Clock::time_point last_{}, session_start_ = Clock::now();
   double start_fraction_ = 0;
 };

@@ -12,23 +12,15 @@
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/boxworld_study.h"
+#include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
-  return dir != nullptr ? fs::path(dir) : fs::path(MANYWORLDS_TEST_SOURCE_DIR);
-}
-
-fs::path Scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_study_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+using test_dirs::SourceDir;
+fs::path Scratch(const std::string& name) { return test_dirs::Scratch("study", name); }
 
 StudyOptions Tiny(const std::string& name, std::vector<std::string> methods) {
   StudyOptions o;

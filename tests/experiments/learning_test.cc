@@ -20,23 +20,15 @@
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/evaluator.h"
 #include "manyworlds/experiments/trainer.h"
+#include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
-  return dir != nullptr ? fs::path(dir) : fs::path(MANYWORLDS_TEST_SOURCE_DIR);
-}
-
-fs::path Scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_learning_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+using test_dirs::SourceDir;
+fs::path Scratch(const std::string& name) { return test_dirs::Scratch("learning", name); }
 
 EvalResult RandomPolicyEval(const TaskSet& tasks, int64_t episodes) {
   Evaluator evaluator(tasks, DefaultRegistry(), episodes, 99, 1);

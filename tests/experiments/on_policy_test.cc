@@ -17,18 +17,14 @@
 #include "manyworlds/experiments/run_log.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/rl/generator.h"
+#include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_on_policy_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return test_dirs::Scratch("on_policy", name); }
 
 std::string SourceDir() {
   const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");

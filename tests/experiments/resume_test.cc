@@ -20,18 +20,14 @@
 #include "manyworlds/experiments/run_lock.h"
 #include "manyworlds/experiments/run_log.h"
 #include "manyworlds/experiments/trainer.h"
+#include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_resume_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  return dir;
-}
+fs::path Scratch(const std::string& name) { return test_dirs::Scratch("resume", name); }
 
 // Three point-nav goals, two envs per task, half an update per step: small,
 // but every part of the state (replay, learner, generators, variations of

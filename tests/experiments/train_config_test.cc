@@ -15,21 +15,18 @@
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/run_log.h"
 #include "manyworlds/experiments/task_set.h"
+#include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path SourceDir() {
-  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
-  return dir != nullptr ? fs::path(dir) : fs::path(MANYWORLDS_TEST_SOURCE_DIR);
-}
+using test_dirs::SourceDir;
 
+// Created, unlike test_dirs::Scratch's.
 fs::path Scratch(const std::string& name) {
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_train_config_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
+  fs::path dir = test_dirs::Scratch("train_config", name);
   fs::create_directories(dir);
   return dir;
 }
