@@ -25,6 +25,13 @@ uint64_t NameHash(std::string_view name) {
   return hash;
 }
 
+SawyerOptions MemberOptions(const BenchmarkConfig& config) {
+  SawyerOptions options;
+  options.goal_observable = !config.meta;
+  options.reward_version = config.reward_version;
+  return options;
+}
+
 std::vector<std::unique_ptr<SawyerTask>> MakeMembers(const BenchmarkConfig& config) {
   if (config.tasks.empty()) {
     throw ConfigError("benchmark '" + config.id + "' needs at least one task");
@@ -35,9 +42,7 @@ std::vector<std::unique_ptr<SawyerTask>> MakeMembers(const BenchmarkConfig& conf
   }
   std::set<std::string> seen;
   std::vector<std::unique_ptr<SawyerTask>> members;
-  SawyerOptions options;
-  options.goal_observable = !config.meta;
-  options.reward_version = config.reward_version;
+  const SawyerOptions options = MemberOptions(config);
   for (const std::string& task : config.tasks) {
     if (!seen.insert(task).second) {
       throw ConfigError("benchmark '" + config.id + "' lists task '" + task + "' twice");
@@ -187,6 +192,16 @@ Benchmark::Benchmark(BenchmarkConfig config, std::vector<std::unique_ptr<SawyerT
     variations_.push_back(std::move(drawn));
   }
   member_task_obs_.assign(members_.front()->spec().task_obs_space.flat_size(), 0.0f);
+  for (auto& member : members_) member.reset();
+}
+
+SawyerTask& Benchmark::Member(int task) const {
+  auto& member = members_.at(task);
+  if (!member) {
+    member = MakeSawyerTask(config_.tasks[task], MemberOptions(config_));
+    if (max_episode_steps_ >= 0) member->SetMaxEpisodeSteps(max_episode_steps_);
+  }
+  return *member;
 }
 
 TaskState Benchmark::VariationState(int task, int variation) const {
@@ -218,12 +233,15 @@ std::vector<TaskGroup> Benchmark::EvaluationTasks() const {
 }
 
 void Benchmark::SetMaxEpisodeSteps(int64_t max_episode_steps) {
-  for (auto& member : members_) member->SetMaxEpisodeSteps(max_episode_steps);
+  for (auto& member : members_) {
+    if (member) member->SetMaxEpisodeSteps(max_episode_steps);
+  }
+  max_episode_steps_ = max_episode_steps;
   Env::SetMaxEpisodeSteps(max_episode_steps);
 }
 
 TaskState Benchmark::DoSampleTaskState(Rng& task_rng) {
-  const int task = static_cast<int>(task_rng.UniformInt(members_.size()));
+  const int task = static_cast<int>(task_rng.UniformInt(config_.tasks.size()));
   const int variation = static_cast<int>(task_rng.UniformInt(variations_[task].size()));
   return VariationState(task, variation);
 }
@@ -262,7 +280,7 @@ void Benchmark::DoSetTaskState(const TaskState& state) {
                          "' differs from this instance's (made with another benchmark seed "
                          "or split?)");
   }
-  members_[task]->SetTaskState(embedded);
+  Member(task).SetTaskState(embedded);
   active_task_ = task;
   active_variation_ = variation;
   if (config_.meta) {
@@ -274,11 +292,11 @@ void Benchmark::DoSetTaskState(const TaskState& state) {
 }
 
 void Benchmark::DoReset(const ObsView& out) {
-  members_[active_task_]->Reset(ObsView{out.env_obs, member_task_obs_});
+  Member(active_task_).Reset(ObsView{out.env_obs, member_task_obs_});
 }
 
 void Benchmark::DoStep(std::span<const float> action, const StepView& out) {
-  members_[active_task_]->Step(action, StepView{out.env_obs, member_task_obs_, out.reward,
+  Member(active_task_).Step(action, StepView{out.env_obs, member_task_obs_, out.reward,
                                                  out.terminated, out.truncated, out.info});
 }
 

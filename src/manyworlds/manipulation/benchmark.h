@@ -79,13 +79,14 @@ class Benchmark : public Env {
   explicit Benchmark(BenchmarkConfig config);
 
   const BenchmarkConfig& config() const { return config_; }
-  int num_tasks() const { return static_cast<int>(members_.size()); }
+  int num_tasks() const { return static_cast<int>(config_.tasks.size()); }
   const std::string& task_name(int task) const { return config_.tasks.at(task); }
   const std::vector<TaskState>& variations(int task) const { return variations_.at(task); }
   // The member task and the variation of the current task (-1 before one).
   int active_task() const { return active_task_; }
   int active_variation() const { return active_variation_; }
-  const SawyerTask& member(int task) const { return *members_.at(task); }
+  // The member task, built on first use (see members_).
+  const SawyerTask& member(int task) const { return Member(task); }
 
   // The task state of one (task, variation) pair.
   TaskState VariationState(int task, int variation) const;
@@ -103,8 +104,16 @@ class Benchmark : public Env {
  private:
   Benchmark(BenchmarkConfig config, std::vector<std::unique_ptr<SawyerTask>> members);
 
+  SawyerTask& Member(int task) const;
+
   BenchmarkConfig config_;
-  std::vector<std::unique_ptr<SawyerTask>> members_;
+  // Built to draw the variations and the spec, then released: a member is
+  // rebuilt when a task state first selects it, so an env holds only the
+  // models it runs (a training run makes one mt50 env per task: 50 models,
+  // not 2,500). A member's task state is all it keeps, so rebuilding it
+  // changes nothing.
+  mutable std::vector<std::unique_ptr<SawyerTask>> members_;
+  int64_t max_episode_steps_ = -1;  // SetMaxEpisodeSteps's value for new members (-1: none)
   std::vector<std::vector<TaskState>> variations_;
   std::vector<float> member_task_obs_;  // scratch for the member's goal
   int active_task_ = -1;
