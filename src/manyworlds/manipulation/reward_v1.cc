@@ -35,8 +35,8 @@ double LiftBonus(const SawyerState& s, double obj_z, bool held, bool near, doubl
   return 0.0;
 }
 
-PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
-                         double progress_dist, double z_weight, bool lift_from_start) {
+double PickPlace(const SawyerState& s, double gripper_action, double place_dist,
+                 double progress_dist, double z_weight, bool lift_from_start) {
   const double reach_dist = Distance(s.obj, s.tcp);
   const double reach = Reach(s, s.obj, gripper_action, 0.05, z_weight, 0.05);
   const bool picked = s.obj[2] >= s.v1_height_target - 0.01;
@@ -47,7 +47,19 @@ PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double pla
   if (picked && reach_dist < 0.1 && !dropped) {
     place = std::max(Progress(s.v1_max_dist, progress_dist), 0.0);
   }
-  return {reach + pick + place, reach_dist, place_dist};
+  return reach + pick + place;
+}
+
+RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double success_radius,
+                          bool lift_from_start) {
+  const double obj_to_target = Distance(s.obj, s.goal);
+  RewardTerms terms;
+  terms.reward =
+      PickPlace(s, gripper_action, obj_to_target, obj_to_target, 2.0, lift_from_start);
+  terms.success = obj_to_target <= success_radius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = obj_to_target;
+  return terms;
 }
 
 void InitPickPlace(SawyerState& s, double obj_height, double lift) {

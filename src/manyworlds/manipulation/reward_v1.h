@@ -50,15 +50,17 @@ double LiftBonus(const SawyerState& s, double obj_z, bool held, bool near, doubl
 // within 5 cm). z_weight: the weight of
 // the tcp's height change in the xy-first reach (2 in pick-place, 1 in
 // peg-insert-side).
-struct PickPlaceTerms {
-  double reward = 0;
-  double reach_dist = 0;  // |obj - tcp|
-  double place_dist = 0;  // |obj - goal|
-};
 // lift_from_start: the lift bonus counts the height above the object's start
 // plus 2 cm (pick-out-of-hole), not the height above the table.
-PickPlaceTerms PickPlace(const SawyerState& s, double gripper_action, double place_dist,
-                         double progress_dist, double z_weight, bool lift_from_start = false);
+double PickPlace(const SawyerState& s, double gripper_action, double place_dist,
+                 double progress_dist, double z_weight, bool lift_from_start = false);
+
+// The whole v1 step of pick-place and the tasks that copy it (|obj - goal|
+// for both distances, the tcp's height change weighted 2): the reward, and
+// the info v3's evaluate_state builds from v1's (reward, 0, 0, |obj - goal|,
+// 0, 0): success within success_radius, near_object 1, obj_to_target.
+RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double success_radius,
+                          bool lift_from_start = false);
 
 // The lift target and normaliser v3 sets at reset for pick-and-place:
 // obj_height = the object's height, height_target = obj_height + lift,

@@ -86,9 +86,8 @@ void BoxClose::InitTaskState(SawyerState& s) const { v1::InitPickPlace(s, kV1Obj
 
 RewardTerms BoxClose::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
   const double place_dist = Distance(s.obj, s.goal);
-  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], place_dist, place_dist, 2.0);
   RewardTerms terms;
-  terms.reward = v.reward;
+  terms.reward = v1::PickPlace(s, action[3], place_dist, place_dist, 2.0);
   // v3's evaluate_state on v1's (reward, 0, 0, 0, success): no reward override
   terms.success = place_dist < 0.08;
   return terms;

@@ -59,15 +59,7 @@ void PickPlaceWall::InitTaskState(SawyerState& s) const {
 }
 
 RewardTerms PickPlaceWall::ComputeRewardV1(const SawyerState& s, std::span<const float> action) const {
-  const double obj_to_target = Distance(s.obj, s.goal);
-  const v1::PickPlaceTerms v = v1::PickPlace(s, action[3], obj_to_target, obj_to_target, 2.0);
-  RewardTerms terms;
-  terms.reward = v.reward;
-  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return v1::PickPlaceStep(s, action[3], 0.07);
 }
 
 void PickPlaceWallScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
