@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -251,6 +252,11 @@ TEST(WorldTest, BadDistributionsNameTheOption) {
       {[](WorldDistribution& d) { d.success_radius_ratio = 0.3; },
        "box world: success_radius_ratio must be in [0.002, 0.25]"},
       {[](WorldDistribution& d) { d.layout_seed = -4; }, "box world: layout_seed must be -1"},
+      {[](WorldDistribution& d) { d.box_start_gap = -0.5; },
+       "box world: box_start_gap must be in [0, 5] (-1 (anywhere) or a gap in m up to "
+       "floor_size), got -0.5"},
+      {[](WorldDistribution& d) { d.box_start_gap = std::nan(""); },
+       "box world: box_start_gap must be in [0, 5]"},
   };
   for (const Case& c : cases) {
     WorldDistribution d;
@@ -276,6 +282,37 @@ TEST(WorldTest, PlacementThatCannotSucceedIsAClearError) {
   EXPECT_EQ(message.rfind("box world: could not place the target at least min_target_distance", 0),
             0u)
       << message;
+}
+
+TEST(WorldTest, BoxStartGapStartsEveryBoxNextToTheAgent) {
+  WorldDistribution d = Broad();
+  d.num_boxes = {1, 3};
+  d.box_start_gap = 0.1;
+  double closest_to_wall = 1e9;
+  for (uint64_t seed = 0; seed < 300; ++seed) {
+    const WorldParams w = GenerateWorld(d, seed);
+    ASSERT_NO_THROW(Validate(w)) << seed;
+    const double half = w.floor_size / 2;
+    for (const BoxParams& b : w.boxes) {
+      const double touching = FootprintRadius(b) + w.agent_radius + kPlacementClearance;
+      const double gap =
+          std::hypot(b.start[0] - w.agent_start[0], b.start[1] - w.agent_start[1]) - touching;
+      ASSERT_GE(gap, -1e-12) << seed;
+      ASSERT_LE(gap, 0.1 + 1e-12) << seed;
+      closest_to_wall = std::min(closest_to_wall, half - std::abs(b.start[0]));
+    }
+  }
+  // the agent still starts anywhere: some boxes end up beside a wall
+  EXPECT_LT(closest_to_wall, 0.5);
+  // boxes far from the agent without the option
+  d.box_start_gap = -1;
+  int far = 0;
+  for (uint64_t seed = 0; seed < 50; ++seed) {
+    const WorldParams w = GenerateWorld(d, seed);
+    const BoxParams& b = w.boxes.front();
+    far += std::hypot(b.start[0] - w.agent_start[0], b.start[1] - w.agent_start[1]) > 1.0;
+  }
+  EXPECT_GT(far, 25);
 }
 
 }  // namespace

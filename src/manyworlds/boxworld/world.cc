@@ -312,7 +312,7 @@ WorldParams WorldFromJson(const nlohmann::json& json) {
   return w;
 }
 
-void PlaceObjects(WorldParams& w, Rng& rng) {
+void PlaceObjects(WorldParams& w, Rng& rng, double box_start_gap) {
   ValidateObjects(w);
   const double half = w.floor_size / 2;
   struct Placed {
@@ -333,8 +333,15 @@ void PlaceObjects(WorldParams& w, Rng& rng) {
       const double r = FootprintRadius(b);
       const double limit = half - r - kPlacementClearance;
       bool found = false;
+      const double touching = w.agent_radius + r + kPlacementClearance;
       for (int t = 0; t < kPlacementTries && !found; ++t) {
-        const Vec2 p = {rng.Uniform(-limit, limit), rng.Uniform(-limit, limit)};
+        Vec2 p = {rng.Uniform(-limit, limit), rng.Uniform(-limit, limit)};
+        if (box_start_gap >= 0) {
+          const double angle = rng.Uniform(-kPi, kPi);
+          const double d = touching + rng.Uniform(0.0, box_start_gap);
+          p = {w.agent_start[0] + d * std::cos(angle), w.agent_start[1] + d * std::sin(angle)};
+          if (std::abs(p[0]) > limit || std::abs(p[1]) > limit) continue;
+        }
         found = std::all_of(placed.begin(), placed.end(), [&](const Placed& q) {
           return Distance(p, q.p) >= r + q.r + kPlacementClearance;
         });
@@ -350,9 +357,12 @@ void PlaceObjects(WorldParams& w, Rng& rng) {
     if (ok) return;
   }
   Fail("could not place " + std::to_string(w.boxes.size()) + " boxes without overlap on a " +
-       Num(w.floor_size) + " m floor in " + std::to_string(kRestarts) + " x " +
-       std::to_string(kPlacementTries) + " tries; lower num_boxes or box_size, or raise "
-       "floor_size");
+       Num(w.floor_size) + " m floor" +
+       (box_start_gap >= 0 ? " within box_start_gap = " + Num(box_start_gap) + " m of the agent"
+                           : std::string()) +
+       " in " + std::to_string(kRestarts) + " x " + std::to_string(kPlacementTries) +
+       " tries; lower num_boxes or box_size, or raise floor_size" +
+       (box_start_gap >= 0 ? " or box_start_gap" : ""));
 }
 
 void PlaceTarget(WorldParams& w, Rng& rng) {
@@ -394,6 +404,10 @@ void WorldDistribution::Validate() const {
   CheckRange("min_target_distance_ratio", min_target_distance_ratio, success_radius_ratio,
              (1 - 2 * success_radius_ratio) / std::numbers::sqrt2,
              "success_radius_ratio to (1 - 2 success_radius_ratio) / sqrt(2)");
+  if (box_start_gap != -1.0) {
+    CheckRange("box_start_gap", box_start_gap, 0.0, floor_size[0],
+               "-1 (anywhere) or a gap in m up to floor_size");
+  }
   if (layout_seed < -1) Fail("layout_seed must be -1 (a layout per world) or >= 0, got " +
                              std::to_string(layout_seed));
   // the most crowded world: the most and largest boxes on the smallest floor
@@ -443,7 +457,7 @@ WorldParams WorldDistribution::Sample(Rng& rng) const {
           random_colors ? kPalette[layout.UniformInt(std::size(kPalette))] : ShapeColor(b.shape);
       w.boxes.push_back(b);
     }
-    PlaceObjects(w, layout);
+    PlaceObjects(w, layout, box_start_gap);
     try {
       PlaceTarget(w, rng);
       return w;

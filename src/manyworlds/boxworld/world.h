@@ -117,10 +117,13 @@ nlohmann::json ToJson(const WorldParams& world);
 WorldParams WorldFromJson(const nlohmann::json& json);
 
 // Places the agent and the boxes (start positions and yaws) of `world`
-// uniformly at random without overlap, then the target. Throws ConfigError
-// if the objects cannot fit (ValidateObjects) or no placement is found in
-// kPlacementTries tries per object.
-void PlaceObjects(WorldParams& world, Rng& rng);
+// uniformly at random without overlap. With box_start_gap >= 0 every box
+// starts next to the agent instead: the gap between their footprints is
+// uniform in [kPlacementClearance, kPlacementClearance + box_start_gap] at a
+// uniform angle. Throws ConfigError if the objects cannot fit
+// (ValidateObjects) or no placement is found in kPlacementTries tries per
+// object.
+void PlaceObjects(WorldParams& world, Rng& rng, double box_start_gap = -1.0);
 // Draws the target uniformly in the target area (the floor shrunk by
 // success_radius on every side: the study's [1, 4]^2 on its [0, 5]^2 floor)
 // at least min_target_distance from the agent and every box. Throws
@@ -150,6 +153,11 @@ struct WorldDistribution {
   // world shares the layout drawn from this seed and only the target varies
   // (the study's support/query tasks of one round).
   int64_t layout_seed = -1;
+  // -1: boxes start anywhere on the floor. >= 0 (m): every box starts at
+  // most this far (footprint to footprint) from the agent, as in the study's
+  // code, whose cube starts touching the agent; a policy then moves the box
+  // from its first actions (the complex task's oracle learns only then).
+  double box_start_gap = -1.0;
 
   // Throws ConfigError naming the option ("num_boxes", "box_size", ...) and
   // its allowed range, including worlds of the largest sizes that cannot
