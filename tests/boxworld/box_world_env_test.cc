@@ -1,12 +1,14 @@
 // The box world env: the env contract, determinism, task states, the
-// observation layout (mask, hide_target), actuator scaling, model reuse, and
-// the study's rewards and ends on hand-driven episodes.
+// observation layout (mask, hide_target), actuator scaling, model reuse, the
+// study's rewards and ends on hand-driven episodes, crowded worlds and
+// MuJoCo warnings.
 #include "manyworlds/boxworld/box_world_env.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "manyworlds/boxworld/boxworld.h"
@@ -363,6 +365,120 @@ TEST(BoxWorldEnvTest, TheScriptedPolicyReachesTargetsAndPushesBoxes) {
       EXPECT_GE(successes, kEpisodes / 2);
     }
   }
+}
+
+// 64 cubes of 10 cm (the most a world holds) in an 8 x 8 grid on a 6 m
+// floor; the agent and the target in the corners.
+WorldParams SixtyFourBoxes() {
+  WorldParams w;
+  w.floor_size = 6.0;
+  w.success_radius = 0.3;
+  w.min_target_distance = 0.5;
+  w.agent_start = {-2.6, -2.6};
+  w.target = {2.6, 2.6};
+  BoxParams box;
+  box.size = 0.1;
+  for (int i = 0; i < 64; ++i) {
+    box.start = {-1.75 + 0.5 * (i % 8), -1.75 + 0.5 * (i / 8)};
+    w.boxes.push_back(box);
+  }
+  return w;
+}
+
+BoxWorldEnv::Config SixtyFourSlots(bool throw_on_sim_warning = false) {
+  BoxWorldEnv::Config c = Complex();
+  c.max_boxes = 64;
+  c.throw_on_sim_warning = throw_on_sim_warning;
+  return c;
+}
+
+TEST(BoxWorldEnvTest, SixtyFourBoxesFitTheContactList) {
+  // MuJoCo 2.2.2's default list (100 contacts) held about 25 resting boxes
+  // (4 floor contacts each): every step of a world with more raised
+  // CONTACTFULL and ended the episode at once.
+  const WorldParams world = SixtyFourBoxes();
+  BoxWorldEnv env(SixtyFourSlots());
+  SetWorld(env, world);
+  EXPECT_EQ(env.model()->nconmax, ContactCapacity(world));
+  EXPECT_EQ(env.model()->njmax, ConstraintCapacity(world));
+  env.Reset();
+  const float push[3] = {1.0f, 1.0f, 0.0f};  // into the grid
+  for (int t = 0; t < 100; ++t) {
+    const StepResult r = env.Step(push);
+    ASSERT_EQ(Info(r, "sim_warnings"), 0.0f) << "step " << t;
+    ASSERT_FALSE(r.truncated) << "step " << t;
+    ASSERT_LT(r.reward, 0.0f) << "step " << t;
+  }
+  EXPECT_GT(env.data()->ncon, 4 * 25);  // more than the default list holds
+
+  // the one-box worlds keep MuJoCo's defaults (and their memory)
+  BoxWorldEnv one(Complex());
+  one.ResetTaskState();
+  EXPECT_EQ(one.model()->nconmax, 100);
+  EXPECT_EQ(one.model()->njmax, 500);
+}
+
+// A valid world no longer fills its contact list, so the warning is made as
+// every world of 26 or more boxes met it before ContactCapacity: the env's
+// compiled model cut back to MuJoCo's default list of 100 contacts (MuJoCo
+// reads mjModel::nconmax at each collision pass). Returns the old size.
+int ShrinkContactList(const BoxWorldEnv& env) {
+  mjModel* model = const_cast<mjModel*>(env.model());
+  const int old = model->nconmax;
+  model->nconmax = 100;
+  return old;
+}
+
+TEST(BoxWorldEnvTest, AMujocoWarningEndsTheEpisodeWithoutRewardAndTheNextResetIsClean) {
+  BoxWorldEnv env(SixtyFourSlots());
+  SetWorld(env, SixtyFourBoxes());
+  const Observation fresh = env.Reset();
+  const float still[3] = {0.0f, 0.0f, 0.0f};
+  const StepResult clean = env.Step(still);  // the same step, warning-free
+  ASSERT_EQ(Info(clean, "sim_warnings"), 0.0f);
+
+  const int capacity = ShrinkContactList(env);
+  env.Reset();
+  const StepResult r = env.Step(still);
+  EXPECT_TRUE(r.truncated);
+  EXPECT_FALSE(r.terminated);
+  EXPECT_EQ(r.reward, 0.0f);
+  EXPECT_GE(Info(r, "sim_warnings"), 1.0f);  // every CONTACTFULL of the step's 5 substeps
+  EXPECT_EQ(Info(r, "success"), 0.0f);
+  for (float v : r.obs.env_obs) ASSERT_TRUE(std::isfinite(v));
+
+  // the list back to its size: the next episode starts as a fresh one, with
+  // no warning carried over
+  const_cast<mjModel*>(env.model())->nconmax = capacity;
+  EXPECT_EQ(env.Reset().env_obs, fresh.env_obs);
+  const StepResult after = env.Step(still);
+  EXPECT_EQ(Info(after, "sim_warnings"), 0.0f);
+  EXPECT_FALSE(after.truncated);
+  EXPECT_EQ(after.reward, clean.reward);
+  EXPECT_EQ(after.obs.env_obs, clean.obs.env_obs);
+}
+
+TEST(BoxWorldEnvTest, ThrowOnSimWarningThrowsNamingTheWarning) {
+  BoxWorldEnv env(SixtyFourSlots(/*throw_on_sim_warning=*/true));
+  SetWorld(env, SixtyFourBoxes());
+  const int capacity = ShrinkContactList(env);
+  env.Reset();
+  const float still[3] = {0.0f, 0.0f, 0.0f};
+  std::string message;
+  try {
+    env.Step(still);
+  } catch (const Error& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("box-world-complex"), std::string::npos) << message;
+  EXPECT_NE(message.find("CONTACTFULL"), std::string::npos) << message;
+  EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+
+  const_cast<mjModel*>(env.model())->nconmax = capacity;
+  env.Reset();
+  const StepResult r = env.Step(still);
+  EXPECT_EQ(Info(r, "sim_warnings"), 0.0f);
+  EXPECT_FALSE(r.truncated);
 }
 
 TEST(BoxWorldEnvTest, RegistryOptionsReachTheGeneratorAndBadOnesAreErrors) {

@@ -1,5 +1,6 @@
 #include "manyworlds/boxworld/world_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -33,9 +34,16 @@ std::vector<double> GeomSize(const BoxParams& b) {
 
 }  // namespace
 
+int ContactCapacity(const WorldParams& w) {
+  return std::max(100, 50 + 6 * static_cast<int>(w.boxes.size()));
+}
+
+int ConstraintCapacity(const WorldParams& w) { return std::max(500, 4 * ContactCapacity(w)); }
+
 sim::MjcfBuilder WorldMjcf(const WorldParams& w) {
   sim::MjcfBuilder b("box_world");
   b.option().Set("timestep", kTimestep);
+  b.size().Set("nconmax", ContactCapacity(w)).Set("njmax", ConstraintCapacity(w));
   sim::MjcfElement& quality = b.visual().AddChild("quality");
   quality.Set("shadowsize", 4096);
   b.visual().AddChild("headlight").Set("ambient", {0.35, 0.35, 0.35}).Set("diffuse",

@@ -38,6 +38,18 @@ inline constexpr double kAgentMass = 1.0;
 inline constexpr double kAgentDamping = 2.5;     // N s/m on x and y
 inline constexpr double kAgentYawDamping = 1.0;  // N m s about z
 
+// Sizes of the model's contact list (<size nconmax>) and constraint rows
+// (njmax): max(100, 50 + 6 x boxes) contacts and 4 rows per contact (a
+// pyramidal cone of condim 3), at least 500. MuJoCo 2.2.2's defaults (100
+// and 500, kept up to 8 boxes) hold about 25 boxes resting on the floor (4
+// contacts each); every step of a world with more raised CONTACTFULL and
+// ended the episode. 64 cubes pushed by the scripted policy peak at 273
+// contacts of the 434; their mjData's buffer is 53 MB (the constraint
+// arrays grow with njmax squared; the default's is 3.2 MB) and its stack
+// 180 MB of address space, touched only as far as a step needs.
+int ContactCapacity(const WorldParams& world);
+int ConstraintCapacity(const WorldParams& world);
+
 // The builder holding the world's MJCF (for inspection or export).
 sim::MjcfBuilder WorldMjcf(const WorldParams& world);
 // Compiles the world's model. Throws MujocoError (never for a Validate()d

@@ -219,6 +219,7 @@ class MjcfBuilder {
   // The top-level sections, each created (appended) on first use.
   MjcfElement& compiler() { return root_.Child("compiler"); }
   MjcfElement& option() { return root_.Child("option"); }
+  MjcfElement& size() { return root_.Child("size"); }
   MjcfElement& visual() { return root_.Child("visual"); }
   MjcfElement& defaults() { return root_.Child("default"); }
   MjcfElement& asset() { return root_.Child("asset"); }
