@@ -139,6 +139,27 @@ TEST(BoxWorldStudyTest, InitFromNeedsAMatchingCheckpoint) {
   fs::remove_all(o.out_dir);
 }
 
+TEST(BoxWorldStudyTest, ComplexTaskBoxesStartNextToTheAgentUnlessTold) {
+  StudyOptions o;
+  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), -1.0);  // simple
+  o.task = "complex";
+  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), kComplexBoxStartGap);
+  o.box_start_gap = -1.0;
+  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), -1.0);
+  o.box_start_gap = 0.5;
+  EXPECT_EQ(StudyTableJson({}, o).at("box_start_gap").get<double>(), 0.5);
+  EXPECT_NE(StudyTableMarkdown({}, o).find("boxes start within 0.500 m of the agent"),
+            std::string::npos);
+  // every method's config and the test tasks carry it
+  o.config_dir = SourceDir() / "configs";
+  o.out_dir = Scratch("gap");
+  for (const std::string& method : StudyMethods()) {
+    EXPECT_EQ(StudyMethodConfig(o, method).env.options.at("box_start_gap").get<double>(), 0.5)
+        << method;
+  }
+  EXPECT_EQ(StudyTestSection(o).options.at("box_start_gap").get<double>(), 0.5);
+}
+
 TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
   auto message = [](const StudyOptions& o) {
     try {
@@ -161,6 +182,11 @@ TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
   o = Tiny("bad", {"oracle"});
   o.budget = -1;
   EXPECT_NE(message(o).find("--budget must be a factor in (0, 1000]"), std::string::npos);
+  o = Tiny("bad", {"oracle"});
+  o.box_start_gap = -3;
+  EXPECT_EQ(message(o),
+            "--box-start-gap must be -1 (boxes start anywhere) or in [0, 4] m (the smallest "
+            "floor is 4 m), got -3");
   o = Tiny("bad", {"oracle"});
   o.config_dir = "/nonexistent";
   EXPECT_NE(message(o).find("no config '/nonexistent/boxworld_oracle_simple.yaml'"),

@@ -129,6 +129,13 @@ std::string Num(double v, int digits) {
   return text;
 }
 
+// As a user typed it (errors): -3, 0.25, 1e+300.
+std::string Short(double v) {
+  char text[64];
+  std::snprintf(text, sizeof(text), "%g", v);
+  return text;
+}
+
 }  // namespace
 
 const std::vector<std::string>& StudyMethods() {
@@ -176,7 +183,7 @@ void ValidateStudyOptions(const StudyOptions& o) {
   }
   if (!(o.budget > 0.0) || !std::isfinite(o.budget) || o.budget > 1000.0) {
     throw ConfigError("--budget must be a factor in (0, 1000] (1 = the configs' budgets), got " +
-                      Num(o.budget, 6));
+                      Short(o.budget));
   }
   for (const auto& m : o.methods) {
     const auto& all = StudyMethods();
@@ -186,10 +193,22 @@ void ValidateStudyOptions(const StudyOptions& o) {
     }
   }
   if (o.out_dir.empty()) throw ConfigError("--out must not be empty");
+  if (o.box_start_gap && *o.box_start_gap != -1.0 &&
+      !(*o.box_start_gap >= 0.0 && *o.box_start_gap <= 4.0)) {
+    throw ConfigError("--box-start-gap must be -1 (boxes start anywhere) or in [0, 4] m (the "
+                      "smallest floor is 4 m), got " + Short(*o.box_start_gap));
+  }
+}
+
+double StudyBoxStartGap(const StudyOptions& o) {
+  if (o.box_start_gap) return *o.box_start_gap;
+  return o.task == "complex" ? kComplexBoxStartGap : -1.0;
 }
 
 nlohmann::json StudyEnvOptions(const StudyOptions& o) {
-  nlohmann::json options = {{"target_in_obs", true}, {"hide_target", o.hide_target}};
+  nlohmann::json options = {{"target_in_obs", true},
+                            {"hide_target", o.hide_target},
+                            {"box_start_gap", StudyBoxStartGap(o)}};
   if (o.distribution == "broad") {
     // what the paper held fixed varies here: floor 4-8 m, 1-3 boxes of three
     // shapes and sizes (docs/boxworld.md "The study")
@@ -378,6 +397,7 @@ nlohmann::json StudyTableJson(const std::vector<StudyRow>& rows, const StudyOpti
           {"hide_target", o.hide_target},
           {"budget", o.budget},
           {"seed", o.seed},
+          {"box_start_gap", StudyBoxStartGap(o)},
           {"test_layouts", kTestLayouts},
           {"query_targets", kQueryTargets},
           {"rows", list}};
@@ -405,7 +425,10 @@ std::string StudyTableMarkdown(const std::vector<StudyRow>& rows, const StudyOpt
   std::ostringstream out;
   out << "Box world study: " << o.task << " task, " << o.distribution << " distribution, target "
       << (o.hide_target ? "hidden" : "observed") << ", budget x" << Num(o.budget, 3) << ", seed "
-      << o.seed << "; " << kTestLayouts << " test layouts x " << kQueryTargets
+      << o.seed << ", boxes start "
+      << (StudyBoxStartGap(o) < 0 ? std::string("anywhere")
+                                  : "within " + Num(StudyBoxStartGap(o), 3) + " m of the agent")
+      << "; " << kTestLayouts << " test layouts x " << kQueryTargets
       << " targets.\n\n";
   out << "| method | mean reward | std | success | paper mean | paper std | paper success | "
          "training env steps | wall |\n";
