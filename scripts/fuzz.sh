@@ -26,7 +26,7 @@ fi
 bash scripts/setup.sh
 flags="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 # Only the layers the parsers live in: core, config, classic, and sim,
-# manipulation, locomotion on the (uninstrumented) MuJoCo library. No torch
+# manipulation, locomotion, boxworld on the (uninstrumented) MuJoCo library. No torch
 # layer: the checkpoint and replay readers have no libtorch and are compiled
 # into their targets (see fuzz/CMakeLists.txt).
 cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
