@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -200,6 +201,91 @@ TEST(BoxWorldEnvTest, ActionsAreScaledToTheActuatorRanges) {
     env.Step(down);
   }
   EXPECT_NEAR(env.data()->qvel[1], -2.5 / kAgentDamping, 0.02);
+}
+
+// The smallest agent and box at the largest force and torque, driven into
+// each wall and corner while spinning against the box.
+WorldParams Violent() {
+  WorldParams w = Corridor();
+  w.agent_radius = kMinObjectSize;
+  w.agent_force = kMaxAgentForce;
+  w.agent_torque = kMaxAgentTorque;
+  BoxParams box;
+  box.size = kMinObjectSize;
+  box.start = {w.agent_start[0] + 0.05, 0.0};
+  w.boxes = {box};
+  return w;
+}
+
+TEST(BoxWorldEnvTest, TheAgentCannotLeaveTheArenaAndABoxThatDoesIsReported) {
+  // Before the agent's joints were limited, a 0.01 m agent at 30 N (top
+  // speed 12 m/s) driven into a wall passed through it; nothing reported it.
+  const WorldParams w = Violent();
+  BoxWorldEnv env(Complex());
+  SetWorld(env, w);
+  const double reach = w.floor_size / 2 - w.agent_radius;
+  double farthest = 0;
+  int steps = 0, reported = 0;
+  const float pushes[][3] = {{1, 0, 1},  {-1, 0, -1}, {0, 1, 1},  {0, -1, 1},
+                             {1, 1, -1}, {-1, -1, 1}, {1, -1, 1}, {-1, 1, -1}};
+  for (const auto& a : pushes) {
+    env.Reset();
+    for (int t = 0; t < 300; ++t) {
+      const float spin[3] = {a[0], a[1], t % 40 < 20 ? a[2] : -a[2]};
+      const StepResult r = env.Step(spin);
+      ++steps;
+      const double* q = env.data()->qpos;  // agent x, y, yaw; the box's free joint
+      farthest = std::max({farthest, std::abs(q[0]), std::abs(q[1])});
+      const bool box_outside = std::abs(q[3]) > w.floor_size / 2 + kWallThicknessM ||
+                               std::abs(q[4]) > w.floor_size / 2 + kWallThicknessM;
+      // a box outside the walls is never silent
+      if (box_outside) ASSERT_GT(Info(r, "sim_warnings"), 0.0f) << t;
+      if (Info(r, "sim_warnings") > 0) {
+        ++reported;
+        EXPECT_TRUE(r.truncated);
+        EXPECT_EQ(r.reward, 0.0f);
+      }
+      if (r.terminated || r.truncated) env.Reset();
+    }
+  }
+  // the joint limit is soft: the agent may press into the wall, never past it
+  EXPECT_LE(farthest, w.floor_size / 2 + kWallThicknessM);
+  EXPECT_GT(farthest, reach - 0.05);  // it did reach the walls
+  EXPECT_LT(reported, steps);
+}
+
+TEST(BoxWorldEnvTest, ABoxOutsideTheWallsEndsTheEpisodeOrThrows) {
+  for (bool throw_on_warning : {false, true}) {
+    BoxWorldEnv::Config c = Complex();
+    c.throw_on_sim_warning = throw_on_warning;
+    BoxWorldEnv env(c);
+    WorldParams w = Corridor();
+    w.boxes = {BoxParams{.start = {0.0, 1.0}}};
+    SetWorld(env, w);
+    env.Reset();
+    // as if a hit had sent it through the +y wall
+    const_cast<mjData*>(env.data())->qpos[4] = w.floor_size / 2 + 0.5;
+    const float still[3] = {0, 0, 0};
+    if (throw_on_warning) {
+      try {
+        env.Step(still);
+        ADD_FAILURE() << "no throw";
+      } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("box-world-complex: 1 box(es) left the arena (box 0"),
+                  std::string::npos)
+            << e.what();
+      }
+    } else {
+      const StepResult r = env.Step(still);
+      EXPECT_EQ(Info(r, "sim_warnings"), 1.0f);
+      EXPECT_TRUE(r.truncated);
+      EXPECT_FALSE(r.terminated);
+      EXPECT_EQ(r.reward, 0.0f);
+    }
+    // a reset puts the box back
+    env.Reset();
+    EXPECT_EQ(Info(env.Step(still), "sim_warnings"), 0.0f);
+  }
 }
 
 TEST(BoxWorldEnvTest, SimpleTaskPaysDistanceThenOneHundredOnceAndTerminates) {

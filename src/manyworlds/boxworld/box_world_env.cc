@@ -7,6 +7,7 @@
 
 #include "manyworlds/boxworld/world_model.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/sim/mujoco_error.h"
 #include "manyworlds/sim/warnings.h"
 
 namespace manyworlds::boxworld {
@@ -229,11 +230,36 @@ void BoxWorldEnv::DoReset(const ObsView& out) {
   WriteObs(out.env_obs);
 }
 
+int BoxWorldEnv::BoxesOutsideTheArena() const {
+  // Outside the walls or below the floor: hit hard enough, a small box can
+  // pass through a wall or the floor within one physics step.
+  const double limit = world_.floor_size / 2 + kWallThicknessM;
+  int outside = 0;
+  std::string where;
+  for (size_t k = 0; k < box_qpos_.size(); ++k) {
+    const double* q = data_->qpos + box_qpos_[k];
+    if (std::abs(q[0]) > limit || std::abs(q[1]) > limit || q[2] < -world_.boxes[k].size) {
+      ++outside;
+      if (where.empty()) {
+        where = "box " + std::to_string(k) + " at (" + std::to_string(q[0]) + ", " +
+                std::to_string(q[1]) + ", " + std::to_string(q[2]) + ")";
+      }
+    }
+  }
+  if (outside > 0 && config_.throw_on_sim_warning) {
+    throw sim::SimulationWarningError(id() + ": " + std::to_string(outside) +
+                                      " box(es) left the arena (" + where +
+                                      "; the walls end at +-" + std::to_string(limit) + " m)");
+  }
+  return outside;
+}
+
 void BoxWorldEnv::DoStep(std::span<const float> action, const StepView& out) {
   mjModel* m = model_.get();
   mjData* d = data_.get();
   for (int i = 0; i < m->nu; ++i) d->ctrl[i] = action[i] * ctrl_scale_[i];
-  const int warnings = sim::StepAndCheck(m, d, kFrameSkip, config_.throw_on_sim_warning, id());
+  int warnings = sim::StepAndCheck(m, d, kFrameSkip, config_.throw_on_sim_warning, id());
+  if (warnings == 0) warnings = BoxesOutsideTheArena();
   out.info[3] = static_cast<float>(warnings);
   if (warnings > 0) {  // the state is not to be trusted: end without reward
     WriteObs(out.env_obs);

@@ -110,6 +110,10 @@ class BoxWorldEnv : public Env {
   void CacheIds();
   void WriteObs(std::span<float> out) const;
   double PlanarDistance(int qpos_address) const;
+  // Boxes outside the walls or under the floor after a step (counted as
+  // simulation warnings); throws SimulationWarningError with
+  // throw_on_sim_warning.
+  int BoxesOutsideTheArena() const;
 
   Config config_;
   WorldParams world_;

@@ -68,9 +68,9 @@ std::vector<OptionSpec> BoxWorldOptions() {
       {"agent_radius", OptionType::kFloat, d.agent_radius,
        "agent sphere radius in m, [0.01, floor_size / 4]"},
       {"agent_force", OptionType::kFloat, d.agent_force,
-       "force in N on x and y at action +-1, (0, 10000]; top speed = agent_force / 2.5 m/s"},
+       "force in N on x and y at action +-1, (0, 50]; top speed = agent_force / 2.5 m/s"},
       {"agent_torque", OptionType::kFloat, d.agent_torque,
-       "torque in N m about z at action +-1, (0, 10000]"},
+       "torque in N m about z at action +-1, (0, 10]"},
       {"success_radius_ratio", OptionType::kFloat, d.success_radius_ratio,
        "success radius (reach, delivery) as a fraction of floor_size, up to 0.25 (the study: "
        "1 m on 5 m = 0.2)"},

@@ -162,8 +162,8 @@ void ValidateObjects(const WorldParams& w) {
   const double quarter = w.floor_size / 4;
   CheckRange("wall_height", w.wall_height, kMinWallHeight, kMaxWallHeight);
   CheckRange("agent_radius", w.agent_radius, kMinObjectSize, quarter, "up to floor_size / 4");
-  CheckPositive("agent_force", w.agent_force, kMaxGain);
-  CheckPositive("agent_torque", w.agent_torque, kMaxGain);
+  CheckPositive("agent_force", w.agent_force, kMaxAgentForce);
+  CheckPositive("agent_torque", w.agent_torque, kMaxAgentTorque);
   CheckRange("success_radius", w.success_radius, kMinObjectSize, quarter, "up to floor_size / 4");
   CheckRange("min_target_distance", w.min_target_distance, w.success_radius,
              MaxTargetDistance(w.floor_size, w.success_radius),

@@ -12,7 +12,7 @@ namespace {
 constexpr int kFloorBits = 1;
 constexpr int kAgentBits = 2;
 constexpr int kSolidBits = 3;
-constexpr double kWallThickness = 0.1;
+constexpr double kWallThickness = kWallThicknessM;
 
 sim::GeomType GeomOf(Shape shape) {
   switch (shape) {
@@ -100,11 +100,15 @@ sim::MjcfBuilder WorldMjcf(const WorldParams& w) {
                                             {0, -0.05 * w.floor_size, 0}, fovy));
   }
 
+  // The slide joints end at the walls: a fast, small agent pressing a box
+  // into a wall was squeezed through it within one physics step; a joint
+  // limit is not a collision and holds at any speed.
   sim::MjcfBody agent = world.AddBody("agent", {0, 0, w.agent_radius});
+  const double reach = half - w.agent_radius;
   agent.AddJoint({.name = "agent_x", .type = sim::JointType::kSlide, .axis = {1, 0, 0},
-                  .damping = kAgentDamping});
+                  .damping = kAgentDamping, .range = std::array<double, 2>{-reach, reach}});
   agent.AddJoint({.name = "agent_y", .type = sim::JointType::kSlide, .axis = {0, 1, 0},
-                  .damping = kAgentDamping});
+                  .damping = kAgentDamping, .range = std::array<double, 2>{-reach, reach}});
   agent.AddJoint({.name = "agent_yaw", .type = sim::JointType::kHinge, .axis = {0, 0, 1},
                   .damping = kAgentYawDamping});
   agent.AddGeom({.name = "agent", .type = sim::GeomType::kSphere, .size = {w.agent_radius},
