@@ -1,6 +1,6 @@
 // manyworlds study boxworld [--task simple|complex] [--budget X] [--methods a,b] [--out DIR]
 //                           [--hide-target] [--distribution narrow|broad] [--seed N]
-//                           [--box-start-gap M]
+//                           [--layout paper|anywhere]
 //
 // The CS330 box-world study (experiments/boxworld_study.h): trains and evaluates every
 // method, then prints the table (ours beside the paper's) and writes it as table.json,
@@ -182,9 +182,10 @@ void AddStudyCommand(CLI::App& app, CommandContext& context) {
       ->capture_default_str();
   cmd->add_option("--seed", args->options.seed, "seed of every run and evaluation")
       ->capture_default_str();
-  cmd->add_option("--box-start-gap", args->options.box_start_gap,
-                  "boxes start at most this many m from the agent (-1: anywhere); default: "
-                  "complex 0.1 (the paper's code starts its cube touching the agent), simple -1");
+  cmd->add_option("--layout", args->options.layout,
+                  "paper: the agent starts in a corner with its box touching it in front, as "
+                  "the paper's code; anywhere: agent and boxes start anywhere (default: "
+                  "complex paper, simple anywhere)");
   cmd->add_flag("--json", args->json, "print the table as JSON instead of markdown");
   cmd->callback([args, &context] { RunStudy(*args, context); });
 }

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <string>
 
 #include "manyworlds/boxworld/world_model.h"
@@ -252,10 +253,10 @@ TEST(WorldTest, BadDistributionsNameTheOption) {
       {[](WorldDistribution& d) { d.success_radius_ratio = 0.3; },
        "box world: success_radius_ratio must be in [0.002, 0.25]"},
       {[](WorldDistribution& d) { d.layout_seed = -4; }, "box world: layout_seed must be -1"},
-      {[](WorldDistribution& d) { d.box_start_gap = -0.5; },
+      {[](WorldDistribution& d) { d.starts.box_start_gap = -0.5; },
        "box world: box_start_gap must be in [0, 5] (-1 (anywhere) or a gap in m up to "
        "floor_size), got -0.5"},
-      {[](WorldDistribution& d) { d.box_start_gap = std::nan(""); },
+      {[](WorldDistribution& d) { d.starts.box_start_gap = std::nan(""); },
        "box world: box_start_gap must be in [0, 5]"},
   };
   for (const Case& c : cases) {
@@ -287,7 +288,7 @@ TEST(WorldTest, PlacementThatCannotSucceedIsAClearError) {
 TEST(WorldTest, BoxStartGapStartsEveryBoxNextToTheAgent) {
   WorldDistribution d = Broad();
   d.num_boxes = {1, 3};
-  d.box_start_gap = 0.1;
+  d.starts.box_start_gap = 0.1;
   double closest_to_wall = 1e9;
   for (uint64_t seed = 0; seed < 300; ++seed) {
     const WorldParams w = GenerateWorld(d, seed);
@@ -305,7 +306,7 @@ TEST(WorldTest, BoxStartGapStartsEveryBoxNextToTheAgent) {
   // the agent still starts anywhere: some boxes end up beside a wall
   EXPECT_LT(closest_to_wall, 0.5);
   // boxes far from the agent without the option
-  d.box_start_gap = -1;
+  d.starts.box_start_gap = -1;
   int far = 0;
   for (uint64_t seed = 0; seed < 50; ++seed) {
     const WorldParams w = GenerateWorld(d, seed);
@@ -313,6 +314,37 @@ TEST(WorldTest, BoxStartGapStartsEveryBoxNextToTheAgent) {
     far += std::hypot(b.start[0] - w.agent_start[0], b.start[1] - w.agent_start[1]) > 1.0;
   }
   EXPECT_GT(far, 25);
+}
+
+TEST(WorldTest, TheCornerLayoutPutsTheBoxesInFrontOfTheAgent) {
+  // the study's code: agent 0.55 m from two walls, its cube touching it on
+  // the diagonal toward the room
+  WorldDistribution d;
+  d.starts = {.agent_in_corner = true, .box_start_gap = 0.1};
+  int corners[4] = {0, 0, 0, 0};
+  for (uint64_t seed = 0; seed < 400; ++seed) {
+    const WorldParams w = GenerateWorld(d, seed);
+    ASSERT_NO_THROW(Validate(w)) << seed;
+    const double half = w.floor_size / 2;
+    for (double c : w.agent_start) {
+      ASSERT_GE(half - std::abs(c), w.agent_radius + kPlacementClearance - 1e-12);
+      ASSERT_LE(half - std::abs(c), kCornerInset * w.floor_size + 1e-12);
+    }
+    ++corners[(w.agent_start[0] > 0) + 2 * (w.agent_start[1] > 0)];
+    const BoxParams& b = w.boxes.front();
+    const double to_centre = std::atan2(-w.agent_start[1], -w.agent_start[0]);
+    const double to_box = std::atan2(b.start[1] - w.agent_start[1], b.start[0] - w.agent_start[0]);
+    const double off = std::remainder(to_box - to_centre, 2 * std::numbers::pi);
+    ASSERT_LE(std::abs(off), std::numbers::pi / 4 + 1e-9) << seed;
+    // every target is farther from the agent than the box is: pushes move
+    // the box toward the room, where the targets are
+    ASSERT_GT(std::hypot(w.target[0] - w.agent_start[0], w.target[1] - w.agent_start[1]),
+              std::hypot(b.start[0] - w.agent_start[0], b.start[1] - w.agent_start[1]));
+  }
+  for (int n : corners) EXPECT_GT(n, 60);
+  // boxes anywhere with the agent in a corner
+  d.starts.box_start_gap = -1;
+  EXPECT_NO_THROW(GenerateWorld(d, 1));
 }
 
 }  // namespace

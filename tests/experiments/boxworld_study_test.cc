@@ -139,25 +139,28 @@ TEST(BoxWorldStudyTest, InitFromNeedsAMatchingCheckpoint) {
   fs::remove_all(o.out_dir);
 }
 
-TEST(BoxWorldStudyTest, ComplexTaskBoxesStartNextToTheAgentUnlessTold) {
+TEST(BoxWorldStudyTest, TheComplexTaskUsesThePapersLayoutUnlessTold) {
   StudyOptions o;
-  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), -1.0);  // simple
+  auto options = [&] { return StudyEnvOptions(o); };
+  EXPECT_EQ(options().at("agent_start"), "anywhere");  // simple
+  EXPECT_EQ(options().at("box_start_gap").get<double>(), -1.0);
   o.task = "complex";
-  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), kComplexBoxStartGap);
-  o.box_start_gap = -1.0;
-  EXPECT_EQ(StudyEnvOptions(o).at("box_start_gap").get<double>(), -1.0);
-  o.box_start_gap = 0.5;
-  EXPECT_EQ(StudyTableJson({}, o).at("box_start_gap").get<double>(), 0.5);
-  EXPECT_NE(StudyTableMarkdown({}, o).find("boxes start within 0.500 m of the agent"),
+  EXPECT_EQ(options().at("agent_start"), "corner");
+  EXPECT_EQ(options().at("box_start_gap").get<double>(), kPaperBoxStartGap);
+  o.layout = "anywhere";
+  EXPECT_EQ(options().at("agent_start"), "anywhere");
+  EXPECT_EQ(StudyTableJson({}, o).at("layout"), "anywhere");
+  o.layout = "";
+  EXPECT_EQ(StudyTableJson({}, o).at("layout"), "paper");
+  EXPECT_NE(StudyTableMarkdown({}, o).find("the paper's layout (agent in a corner"),
             std::string::npos);
   // every method's config and the test tasks carry it
   o.config_dir = SourceDir() / "configs";
-  o.out_dir = Scratch("gap");
+  o.out_dir = Scratch("layout");
   for (const std::string& method : StudyMethods()) {
-    EXPECT_EQ(StudyMethodConfig(o, method).env.options.at("box_start_gap").get<double>(), 0.5)
-        << method;
+    EXPECT_EQ(StudyMethodConfig(o, method).env.options.at("agent_start"), "corner") << method;
   }
-  EXPECT_EQ(StudyTestSection(o).options.at("box_start_gap").get<double>(), 0.5);
+  EXPECT_EQ(StudyTestSection(o).options.at("agent_start"), "corner");
 }
 
 TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
@@ -183,10 +186,8 @@ TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
   o.budget = -1;
   EXPECT_NE(message(o).find("--budget must be a factor in (0, 1000]"), std::string::npos);
   o = Tiny("bad", {"oracle"});
-  o.box_start_gap = -3;
-  EXPECT_EQ(message(o),
-            "--box-start-gap must be -1 (boxes start anywhere) or in [0, 4] m (the smallest "
-            "floor is 4 m), got -3");
+  o.layout = "random";
+  EXPECT_EQ(message(o), "--layout must be paper or anywhere, got 'random'");
   o = Tiny("bad", {"oracle"});
   o.config_dir = "/nonexistent";
   EXPECT_NE(message(o).find("no config '/nonexistent/boxworld_oracle_simple.yaml'"),

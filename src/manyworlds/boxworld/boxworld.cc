@@ -77,9 +77,13 @@ std::vector<OptionSpec> BoxWorldOptions() {
       {"min_target_distance_ratio", OptionType::kFloat, d.min_target_distance_ratio,
        "minimum target distance from the agent and every box start, as a fraction of "
        "floor_size, [success_radius_ratio, (1 - 2 success_radius_ratio) / sqrt(2)]"},
-      {"box_start_gap", OptionType::kFloat, d.box_start_gap,
+      {"agent_start", OptionType::kString, std::string("anywhere"),
+       "anywhere, or corner: a random corner, up to 0.15 x floor_size from both walls (the "
+       "study's code: 0.55 m on its 5 m floor)"},
+      {"box_start_gap", OptionType::kFloat, d.starts.box_start_gap,
        "-1: boxes start anywhere; >= 0: every box starts at most this many m (footprint to "
-       "footprint) from the agent, as the study's code starts its cube touching the agent, "
+       "footprint) from the agent, at a random angle, or with agent_start=corner facing the "
+       "floor's centre (the study's code starts its cube touching the agent, in front), "
        "[0, floor_size]"},
       {"layout_seed", OptionType::kInt, int64_t{-1},
        "-1: every task is a new world; >= 0: every task shares the layout (floor, boxes, "
@@ -127,7 +131,13 @@ std::unique_ptr<Env> MakeBoxWorld(BoxTask task, const Options& o) {
   d.agent_torque = o.Float("agent_torque");
   d.success_radius_ratio = o.Float("success_radius_ratio");
   d.min_target_distance_ratio = o.Float("min_target_distance_ratio");
-  d.box_start_gap = o.Float("box_start_gap");
+  d.starts.box_start_gap = o.Float("box_start_gap");
+  const std::string agent_start = o.String("agent_start");
+  if (agent_start != "anywhere" && agent_start != "corner") {
+    throw ConfigError("env '" + id + "': option 'agent_start' must be anywhere or corner, got '" +
+                      agent_start + "'");
+  }
+  d.starts.agent_in_corner = agent_start == "corner";
   d.layout_seed = o.Int("layout_seed");
   const int64_t max_boxes = o.Int("max_boxes");
   if (max_boxes < 1 || max_boxes > kMaxBoxesLimit) {

@@ -312,8 +312,9 @@ WorldParams WorldFromJson(const nlohmann::json& json) {
   return w;
 }
 
-void PlaceObjects(WorldParams& w, Rng& rng, double box_start_gap) {
+void PlaceObjects(WorldParams& w, Rng& rng, const StartRules& rules) {
   ValidateObjects(w);
+  const double box_start_gap = rules.box_start_gap;
   const double half = w.floor_size / 2;
   struct Placed {
     Vec2 p;
@@ -325,7 +326,15 @@ void PlaceObjects(WorldParams& w, Rng& rng, double box_start_gap) {
   for (int restart = 0; restart < kRestarts; ++restart) {
     placed.clear();
     const double a = half - w.agent_radius - kPlacementClearance;
-    w.agent_start = {rng.Uniform(-a, a), rng.Uniform(-a, a)};
+    if (rules.agent_in_corner) {
+      const double inset = std::max(kCornerInset * w.floor_size, w.agent_radius + kPlacementClearance);
+      const double sx = rng.Uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
+      const double sy = rng.Uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
+      w.agent_start = {sx * (half - rng.Uniform(half - a, inset)),
+                       sy * (half - rng.Uniform(half - a, inset))};
+    } else {
+      w.agent_start = {rng.Uniform(-a, a), rng.Uniform(-a, a)};
+    }
     w.agent_start_yaw = rng.Uniform(-kPi, kPi);
     placed.push_back({w.agent_start, w.agent_radius});
     bool ok = true;
@@ -337,7 +346,10 @@ void PlaceObjects(WorldParams& w, Rng& rng, double box_start_gap) {
       for (int t = 0; t < kPlacementTries && !found; ++t) {
         Vec2 p = {rng.Uniform(-limit, limit), rng.Uniform(-limit, limit)};
         if (box_start_gap >= 0) {
-          const double angle = rng.Uniform(-kPi, kPi);
+          const double angle =
+              rules.agent_in_corner
+                  ? std::atan2(-w.agent_start[1], -w.agent_start[0]) + rng.Uniform(-kPi / 4, kPi / 4)
+                  : rng.Uniform(-kPi, kPi);
           const double d = touching + rng.Uniform(0.0, box_start_gap);
           p = {w.agent_start[0] + d * std::cos(angle), w.agent_start[1] + d * std::sin(angle)};
           if (std::abs(p[0]) > limit || std::abs(p[1]) > limit) continue;
@@ -404,8 +416,8 @@ void WorldDistribution::Validate() const {
   CheckRange("min_target_distance_ratio", min_target_distance_ratio, success_radius_ratio,
              (1 - 2 * success_radius_ratio) / std::numbers::sqrt2,
              "success_radius_ratio to (1 - 2 success_radius_ratio) / sqrt(2)");
-  if (box_start_gap != -1.0) {
-    CheckRange("box_start_gap", box_start_gap, 0.0, floor_size[0],
+  if (starts.box_start_gap != -1.0) {
+    CheckRange("box_start_gap", starts.box_start_gap, 0.0, floor_size[0],
                "-1 (anywhere) or a gap in m up to floor_size");
   }
   if (layout_seed < -1) Fail("layout_seed must be -1 (a layout per world) or >= 0, got " +
@@ -457,7 +469,7 @@ WorldParams WorldDistribution::Sample(Rng& rng) const {
           random_colors ? kPalette[layout.UniformInt(std::size(kPalette))] : ShapeColor(b.shape);
       w.boxes.push_back(b);
     }
-    PlaceObjects(w, layout, box_start_gap);
+    PlaceObjects(w, layout, starts);
     try {
       PlaceTarget(w, rng);
       return w;

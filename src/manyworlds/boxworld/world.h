@@ -121,14 +121,26 @@ nlohmann::json ToJson(const WorldParams& world);
 // unknown, wrong type or out of range).
 WorldParams WorldFromJson(const nlohmann::json& json);
 
+// Where the generator starts the agent and the boxes.
+struct StartRules {
+  // false: the agent starts anywhere. true: in a random corner, each
+  // coordinate between agent_radius and kCornerInset x floor_size from its
+  // wall (the study's code: 0.55 m from both walls of its 5 m floor).
+  bool agent_in_corner = false;
+  // -1: boxes start anywhere. >= 0 (m): every box starts next to the agent,
+  // the gap between their footprints uniform in [kPlacementClearance,
+  // kPlacementClearance + box_start_gap], at a random angle, or with
+  // agent_in_corner within 45 degrees of the direction to the floor's
+  // centre (the study's cube sits on the diagonal in front of the agent).
+  double box_start_gap = -1.0;
+};
+inline constexpr double kCornerInset = 0.15;
+
 // Places the agent and the boxes (start positions and yaws) of `world`
-// uniformly at random without overlap. With box_start_gap >= 0 every box
-// starts next to the agent instead: the gap between their footprints is
-// uniform in [kPlacementClearance, kPlacementClearance + box_start_gap] at a
-// uniform angle. Throws ConfigError if the objects cannot fit
-// (ValidateObjects) or no placement is found in kPlacementTries tries per
-// object.
-void PlaceObjects(WorldParams& world, Rng& rng, double box_start_gap = -1.0);
+// uniformly at random without overlap, by `rules`. Throws ConfigError if
+// the objects cannot fit (ValidateObjects) or no placement is found in
+// kPlacementTries tries per object.
+void PlaceObjects(WorldParams& world, Rng& rng, const StartRules& rules = {});
 // Draws the target uniformly in the target area (the floor shrunk by
 // success_radius on every side: the study's [1, 4]^2 on its [0, 5]^2 floor)
 // at least min_target_distance from the agent and every box. Throws
@@ -158,11 +170,11 @@ struct WorldDistribution {
   // world shares the layout drawn from this seed and only the target varies
   // (the study's support/query tasks of one round).
   int64_t layout_seed = -1;
-  // -1: boxes start anywhere on the floor. >= 0 (m): every box starts at
-  // most this far (footprint to footprint) from the agent, as in the study's
-  // code, whose cube starts touching the agent; a policy then moves the box
-  // from its first actions (the complex task's oracle learns only then).
-  double box_start_gap = -1.0;
+  // Start positions (StartRules): the options agent_start ("anywhere" or
+  // "corner") and box_start_gap. The study's complex task starts the agent
+  // in a corner with its box touching it, in front, as the study's code
+  // does: every push then moves the box toward the room (and the target).
+  StartRules starts;
 
   // Throws ConfigError naming the option ("num_boxes", "box_size", ...) and
   // its allowed range, including worlds of the largest sizes that cannot

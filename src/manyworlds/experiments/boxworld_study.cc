@@ -193,22 +193,22 @@ void ValidateStudyOptions(const StudyOptions& o) {
     }
   }
   if (o.out_dir.empty()) throw ConfigError("--out must not be empty");
-  if (o.box_start_gap && *o.box_start_gap != -1.0 &&
-      !(*o.box_start_gap >= 0.0 && *o.box_start_gap <= 4.0)) {
-    throw ConfigError("--box-start-gap must be -1 (boxes start anywhere) or in [0, 4] m (the "
-                      "smallest floor is 4 m), got " + Short(*o.box_start_gap));
+  if (!o.layout.empty() && o.layout != "paper" && o.layout != "anywhere") {
+    throw ConfigError("--layout must be paper or anywhere, got '" + o.layout + "'");
   }
 }
 
-double StudyBoxStartGap(const StudyOptions& o) {
-  if (o.box_start_gap) return *o.box_start_gap;
-  return o.task == "complex" ? kComplexBoxStartGap : -1.0;
+std::string StudyLayout(const StudyOptions& o) {
+  if (!o.layout.empty()) return o.layout;
+  return o.task == "complex" ? "paper" : "anywhere";
 }
 
 nlohmann::json StudyEnvOptions(const StudyOptions& o) {
+  const bool paper = StudyLayout(o) == "paper";
   nlohmann::json options = {{"target_in_obs", true},
                             {"hide_target", o.hide_target},
-                            {"box_start_gap", StudyBoxStartGap(o)}};
+                            {"agent_start", paper ? "corner" : "anywhere"},
+                            {"box_start_gap", paper ? kPaperBoxStartGap : -1.0}};
   if (o.distribution == "broad") {
     // what the paper held fixed varies here: floor 4-8 m, 1-3 boxes of three
     // shapes and sizes (docs/boxworld.md "The study")
@@ -397,7 +397,7 @@ nlohmann::json StudyTableJson(const std::vector<StudyRow>& rows, const StudyOpti
           {"hide_target", o.hide_target},
           {"budget", o.budget},
           {"seed", o.seed},
-          {"box_start_gap", StudyBoxStartGap(o)},
+          {"layout", StudyLayout(o)},
           {"test_layouts", kTestLayouts},
           {"query_targets", kQueryTargets},
           {"rows", list}};
@@ -425,9 +425,9 @@ std::string StudyTableMarkdown(const std::vector<StudyRow>& rows, const StudyOpt
   std::ostringstream out;
   out << "Box world study: " << o.task << " task, " << o.distribution << " distribution, target "
       << (o.hide_target ? "hidden" : "observed") << ", budget x" << Num(o.budget, 3) << ", seed "
-      << o.seed << ", boxes start "
-      << (StudyBoxStartGap(o) < 0 ? std::string("anywhere")
-                                  : "within " + Num(StudyBoxStartGap(o), 3) + " m of the agent")
+      << o.seed << ", "
+      << (StudyLayout(o) == "paper" ? "the paper's layout (agent in a corner, box touching it)"
+                                    : "agent and boxes start anywhere")
       << "; " << kTestLayouts << " test layouts x " << kQueryTargets
       << " targets.\n\n";
   out << "| method | mean reward | std | success | paper mean | paper std | paper success | "

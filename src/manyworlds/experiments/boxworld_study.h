@@ -65,18 +65,23 @@ struct StudyOptions {
   bool hide_target = false;
   std::string distribution = "narrow";  // narrow | broad
   uint64_t seed = 1;
-  // The box world's box_start_gap (m; -1: boxes start anywhere). Unset: the
-  // task's default, StudyBoxStartGap.
-  std::optional<double> box_start_gap;
+  // Start layout: "paper" (the agent in a corner, its box touching it in
+  // front: box world options agent_start=corner, box_start_gap=0.1) or
+  // "anywhere" (agent and boxes anywhere). Empty: the task's default,
+  // StudyLayout.
+  std::string layout;
 };
 
-// The study's code starts its cube touching the agent (meta-rl.md 4.2: agent
-// at (0.55, 0.55), cube at (0.75, 0.75)). The complex task keeps that: a box
-// within 0.1 m of the agent (box_start_gap 0.1), without which no method, the
-// oracle included, ever moves the box (docs/boxworld.md "The complex task").
-// The simple task's box is an obstacle; its boxes start anywhere (-1).
-inline constexpr double kComplexBoxStartGap = 0.1;
-double StudyBoxStartGap(const StudyOptions& options);
+// The study's code starts its agent at (0.55, 0.55) on its [0, 5]^2 floor and
+// its cube at (0.75, 0.75), touching it (meta-rl.md 4.2), so every push moves
+// the cube toward the room, where every target is. The complex task keeps
+// that layout: with boxes anywhere no method ever moved the box, and with the
+// box beside the agent on a random side the first pushes usually move it
+// away from the target, and PPO learns to keep off it (docs/boxworld.md "The
+// complex task"). The simple task's box is an obstacle; everything starts
+// anywhere.
+inline constexpr double kPaperBoxStartGap = 0.1;
+std::string StudyLayout(const StudyOptions& options);
 
 // The paper's Tables 1-2 (meta-rl.md 4.4); absent for methods it did not run.
 struct PaperNumbers {
