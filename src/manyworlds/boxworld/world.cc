@@ -327,7 +327,8 @@ void PlaceObjects(WorldParams& w, Rng& rng, const StartRules& rules) {
     placed.clear();
     const double a = half - w.agent_radius - kPlacementClearance;
     if (rules.agent_in_corner) {
-      const double inset = std::max(kCornerInset * w.floor_size, w.agent_radius + kPlacementClearance);
+      const double inset =
+          std::max(kCornerInset * w.floor_size, w.agent_radius + kPlacementClearance);
       const double sx = rng.Uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
       const double sy = rng.Uniform(0.0, 1.0) < 0.5 ? -1.0 : 1.0;
       w.agent_start = {sx * (half - rng.Uniform(half - a, inset)),
@@ -348,7 +349,8 @@ void PlaceObjects(WorldParams& w, Rng& rng, const StartRules& rules) {
         if (box_start_gap >= 0) {
           const double angle =
               rules.agent_in_corner
-                  ? std::atan2(-w.agent_start[1], -w.agent_start[0]) + rng.Uniform(-kPi / 4, kPi / 4)
+                  ? std::atan2(-w.agent_start[1], -w.agent_start[0]) +
+                        rng.Uniform(-kPi / 4, kPi / 4)
                   : rng.Uniform(-kPi, kPi);
           const double d = touching + rng.Uniform(0.0, box_start_gap);
           p = {w.agent_start[0] + d * std::cos(angle), w.agent_start[1] + d * std::sin(angle)};
