@@ -236,8 +236,8 @@ TEST(BoxWorldEnvTest, TheAgentCannotLeaveTheArenaAndABoxThatDoesIsReported) {
       ++steps;
       const double* q = env.data()->qpos;  // agent x, y, yaw; the box's free joint
       farthest = std::max({farthest, std::abs(q[0]), std::abs(q[1])});
-      const bool box_outside = std::abs(q[3]) > w.floor_size / 2 + kWallThicknessM ||
-                               std::abs(q[4]) > w.floor_size / 2 + kWallThicknessM;
+      const bool box_outside = std::abs(q[3]) > w.floor_size / 2 + kWallThickness ||
+                               std::abs(q[4]) > w.floor_size / 2 + kWallThickness;
       // a box outside the walls is never silent
       if (box_outside) ASSERT_GT(Info(r, "sim_warnings"), 0.0f) << t;
       if (Info(r, "sim_warnings") > 0) {
@@ -249,7 +249,7 @@ TEST(BoxWorldEnvTest, TheAgentCannotLeaveTheArenaAndABoxThatDoesIsReported) {
     }
   }
   // the joint limit is soft: the agent may press into the wall, never past it
-  EXPECT_LE(farthest, w.floor_size / 2 + kWallThicknessM);
+  EXPECT_LE(farthest, w.floor_size / 2 + kWallThickness);
   EXPECT_GT(farthest, reach - 0.05);  // it did reach the walls
   EXPECT_LT(reported, steps);
 }

@@ -233,7 +233,7 @@ void BoxWorldEnv::DoReset(const ObsView& out) {
 int BoxWorldEnv::BoxesOutsideTheArena() const {
   // Outside the walls or below the floor: hit hard enough, a small box can
   // pass through a wall or the floor within one physics step.
-  const double limit = world_.floor_size / 2 + kWallThicknessM;
+  const double limit = world_.floor_size / 2 + kWallThickness;
   int outside = 0;
   std::string where;
   for (size_t k = 0; k < box_qpos_.size(); ++k) {

@@ -12,7 +12,6 @@ namespace {
 constexpr int kFloorBits = 1;
 constexpr int kAgentBits = 2;
 constexpr int kSolidBits = 3;
-constexpr double kWallThickness = kWallThicknessM;
 
 sim::GeomType GeomOf(Shape shape) {
   switch (shape) {

@@ -36,7 +36,7 @@ inline constexpr double kTimestep = 0.005;
 inline constexpr int kFrameSkip = 5;
 inline constexpr double kAgentMass = 1.0;
 inline constexpr double kAgentDamping = 2.5;     // N s/m on x and y
-inline constexpr double kWallThicknessM = 0.1;   // the walls stand outside the floor
+inline constexpr double kWallThickness = 0.1;    // the walls stand outside the floor
 inline constexpr double kAgentYawDamping = 1.0;  // N m s about z
 
 // Sizes of the model's contact list (<size nconmax>) and constraint rows

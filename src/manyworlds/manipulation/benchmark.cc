@@ -199,7 +199,7 @@ SawyerTask& Benchmark::Member(int task) const {
   auto& member = members_.at(task);
   if (!member) {
     member = MakeSawyerTask(config_.tasks[task], MemberOptions(config_));
-    if (max_episode_steps_ >= 0) member->SetMaxEpisodeSteps(max_episode_steps_);
+    member->SetMaxEpisodeSteps(spec().max_episode_steps);
   }
   return *member;
 }
@@ -236,8 +236,7 @@ void Benchmark::SetMaxEpisodeSteps(int64_t max_episode_steps) {
   for (auto& member : members_) {
     if (member) member->SetMaxEpisodeSteps(max_episode_steps);
   }
-  max_episode_steps_ = max_episode_steps;
-  Env::SetMaxEpisodeSteps(max_episode_steps);
+  Env::SetMaxEpisodeSteps(max_episode_steps);  // members built later read it from spec()
 }
 
 TaskState Benchmark::DoSampleTaskState(Rng& task_rng) {

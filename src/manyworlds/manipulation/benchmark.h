@@ -113,7 +113,6 @@ class Benchmark : public Env {
   // not 2,500). A member's task state is all it keeps, so rebuilding it
   // changes nothing.
   mutable std::vector<std::unique_ptr<SawyerTask>> members_;
-  int64_t max_episode_steps_ = -1;  // SetMaxEpisodeSteps's value for new members (-1: none)
   std::vector<std::vector<TaskState>> variations_;
   std::vector<float> member_task_obs_;  // scratch for the member's goal
   int active_task_ = -1;
