@@ -101,7 +101,11 @@ def test_vector_env_errors():
 def test_keyboard_interrupt_during_a_long_stepping_loop():
     script = textwrap.dedent(
         """
-        import sys, numpy as np, manyworlds
+        import signal, sys, numpy as np, manyworlds
+        # A process started in the background by a shell without job control inherits SIGINT
+        # ignored, and Python then installs no KeyboardInterrupt handler: restore it, as an
+        # interactive session has it.
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         envs = manyworlds.make_vec("reach", 8, threads=2)
         envs.reset(seed=0)
         actions = np.zeros((8, 4), np.float32)
