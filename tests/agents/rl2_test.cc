@@ -46,7 +46,10 @@ TEST(Rl2Test, MemoryPersistsAcrossEpisodesAndResetsBetweenTrials) {
   ActorState state = rl2.Initial(2);
   const torch::Tensor obs = torch::ones({2, 3});
   rl2.Act(obs, torch::zeros({2}, torch::kInt64), state, ActMode::kDeterministic);
-  StepOutcome outcome{torch::ones({2, 2}), torch::ones({2}), torch::ones({2})};
+  StepOutcome outcome;
+  outcome.action = torch::ones({2, 2});
+  outcome.reward = torch::ones({2});
+  outcome.ended = torch::ones({2});
   rl2.Observe(outcome, state);
   const torch::Tensor hidden = state.hidden.clone();
   EXPECT_GT(hidden.abs().sum().item<float>(), 0.0f);
@@ -72,7 +75,11 @@ TEST(Rl2Test, UpdateTrainsAndCheckpointsRoundTripAndOthersAreRefused) {
     buffer.log_probs[t].copy_(out.log_prob);
     buffer.rewards[t].copy_(buffer.actions[t].squeeze(1).eq(2).to(torch::kFloat32));
     buffer.ended[t].fill_(t % 3 == 2 ? 1.0f : 0.0f);
-    rl2.Observe({buffer.actions[t], buffer.rewards[t], buffer.ended[t]}, state);
+    StepOutcome outcome;
+    outcome.action = buffer.actions[t];
+    outcome.reward = buffer.rewards[t];
+    outcome.ended = buffer.ended[t];
+    rl2.Observe(outcome, state);
   }
   const torch::Tensor before = rl2.modules()[0]->flat().clone();
   const Metrics m = rl2.Update(buffer);

@@ -17,22 +17,20 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/cli_runner.h"
+
 namespace manyworlds {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
+using test_support::IsOneErrorLine;
+using test_support::RunResult;
+using test_support::Slurp;
 
-std::string Slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+// Runs `manyworlds <args>` in `cwd`.
+RunResult RunCli(const std::string& args, const fs::path& cwd) {
+  return test_support::RunProgram(MANYWORLDS_CLI_PATH, args, cwd);
 }
 
 fs::path ScratchDir() {
@@ -42,27 +40,6 @@ fs::path ScratchDir() {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
-}
-
-RunResult RunCli(const std::string& args, const fs::path& cwd) {
-  const fs::path err_file = cwd / "stderr.txt";
-  const std::string command = "cd '" + cwd.string() + "' && '" + MANYWORLDS_CLI_PATH + "' " +
-                              args + " 2>'" + err_file.string() + "'";
-  RunResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return result;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof(buffer), pipe)) > 0) result.out.append(buffer, n);
-  const int status = pclose(pipe);
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.err = Slurp(err_file);
-  fs::remove(err_file);
-  return result;
-}
-
-bool IsOneErrorLine(const std::string& err) {
-  return err.rfind("error: ", 0) == 0 && err.find('\n') == err.size() - 1;
 }
 
 constexpr char kTinyConfig[] = R"(env:

@@ -27,16 +27,11 @@ namespace fs = std::filesystem;
 
 fs::path Scratch(const std::string& name) { return test_dirs::Scratch("meta_rl", name); }
 
-std::string SourceDir() {
-  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
-  return dir != nullptr ? dir : ".";
-}
-
 // Trains configs/FILE into `dir` with the overrides; the summary.
 TrainSummary TrainFromConfig(const std::string& file, const fs::path& dir,
                              std::vector<std::string> overrides = {}) {
   overrides.push_back("experiment.run_dir=" + dir.string());
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / file, overrides);
+  TrainConfig c = TrainConfig::Load(test_dirs::SourceDir() / "configs" / file, overrides);
   c.Validate();
   Trainer trainer = Trainer::Create(c);
   return trainer.Run();
@@ -100,7 +95,7 @@ TEST(MetaRlLearningTest, Rl2OnBanditsBeatsRandomAndMatchesUcb1) {
   // meta-train on 1,000 bandits (5 arms, trials of 10 one-pull episodes),
   // meta-test on the 200 held-out bandits of the config's eval_env
   const fs::path dir = Scratch("rl2_bandit");
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / "bandit_rl2.yaml",
+  TrainConfig c = TrainConfig::Load(test_dirs::SourceDir() / "configs" / "bandit_rl2.yaml",
                                     {"experiment.run_dir=" + dir.string(),
                                      "experiment.steps_per_task=10000"});
   c.Validate();
@@ -177,7 +172,7 @@ TEST(MetaRlLearningTest, PearlPosteriorFindsHiddenPointNavigationGoals) {
 
 TEST(MetaRlLearningTest, MetaTestWithoutHeldOutTasksIsAConfigError) {
   const fs::path dir = Scratch("no_eval_env");
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / "bandit_rl2.yaml",
+  TrainConfig c = TrainConfig::Load(test_dirs::SourceDir() / "configs" / "bandit_rl2.yaml",
                                     {"experiment.run_dir=" + dir.string(),
                                      "experiment.steps_per_task=20", "eval_env=null"});
   c.Validate();

@@ -26,15 +26,10 @@ namespace fs = std::filesystem;
 
 fs::path Scratch(const std::string& name) { return test_dirs::Scratch("on_policy", name); }
 
-std::string SourceDir() {
-  const char* dir = std::getenv("MANYWORLDS_SOURCE_DIR");
-  return dir != nullptr ? dir : ".";
-}
-
 TrainConfig FromFile(const std::string& name, const fs::path& run_dir,
                      std::vector<std::string> overrides = {}) {
   overrides.push_back("experiment.run_dir=" + run_dir.string());
-  TrainConfig c = TrainConfig::Load(fs::path(SourceDir()) / "configs" / name, overrides);
+  TrainConfig c = TrainConfig::Load(test_dirs::SourceDir() / "configs" / name, overrides);
   c.Validate();
   return c;
 }
