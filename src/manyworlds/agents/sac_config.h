@@ -1,5 +1,5 @@
 // Configuration of (multi-task) SAC. Defaults are MTRL's Meta-World MT10
-// ones (mtenv-mtrl.md B5): 3 x 400 actor and critics, Adam 3e-4 with betas
+// ones (agent=state_sac with setup=metaworld): 3 x 400 actor and critics, Adam 3e-4 with betas
 // (0.9, 0.999), discount 0.99, tau 0.005, initial temperature 1.0, batch 128
 // (MTRL's MT10 command uses 128 per task), target entropy -|A|, log-std in
 // [-20, 2], actor and target updated every step.

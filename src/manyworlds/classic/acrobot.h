@@ -30,6 +30,7 @@
 
 #include <array>
 #include <cstdint>
+#include <numbers>
 
 #include "manyworlds/core/env.h"
 
@@ -40,7 +41,7 @@ class AcrobotEnv : public Env {
   static constexpr const char* kId = "acrobot";
   static constexpr int kTaskDim = 5;
   static constexpr double kDt = 0.2;
-  static constexpr double kPi = 3.14159265358979323846;
+  static constexpr double kPi = std::numbers::pi;
   static constexpr double kMaxVel1 = 4.0 * kPi;
   static constexpr double kMaxVel2 = 9.0 * kPi;
 

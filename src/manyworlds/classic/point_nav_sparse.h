@@ -21,6 +21,7 @@
 
 #include <array>
 #include <cstdint>
+#include <numbers>
 
 #include "manyworlds/core/env.h"
 
@@ -30,7 +31,7 @@ class PointNavSparseEnv : public Env {
  public:
   static constexpr const char* kId = "point-nav-sparse";
   static constexpr float kMaxStep = 0.1f;
-  static constexpr double kPi = 3.14159265358979323846;
+  static constexpr double kPi = std::numbers::pi;
 
   struct Config {
     double goal_radius = 0.2;

@@ -151,7 +151,7 @@ const std::vector<std::string>& PaperMethods() {
 }
 
 std::optional<PaperNumbers> PaperResult(const std::string& task, const std::string& method) {
-  // meta-rl.md 4.4, Tables 1 and 2 of the paper
+  // Tables 1 and 2 of the paper (Malde and Elabd 2022)
   static const std::map<std::string, std::map<std::string, PaperNumbers>> table = {
       {"simple",
        {{"baseline", {-2.24, 1.12, 0.0}},

@@ -1,4 +1,5 @@
-// The CS330 box-world study (docs/boxworld.md "The study"; meta-rl.md 4):
+// The CS330 box-world study (Malde and Elabd 2022; docs/boxworld.md "The
+// study"):
 // every method trained and evaluated on the same generated worlds, one row
 // per method with the paper's numbers beside ours.
 //
@@ -73,7 +74,7 @@ struct StudyOptions {
 };
 
 // The study's code starts its agent at (0.55, 0.55) on its [0, 5]^2 floor and
-// its cube at (0.75, 0.75), touching it (meta-rl.md 4.2), so every push moves
+// its cube at (0.75, 0.75), touching it (its env.py), so every push moves
 // the cube toward the room, where every target is. The complex task keeps
 // that layout: with boxes anywhere no method ever moved the box, and with the
 // box beside the agent on a random side the first pushes usually move it
@@ -83,7 +84,7 @@ struct StudyOptions {
 inline constexpr double kPaperBoxStartGap = 0.1;
 std::string StudyLayout(const StudyOptions& options);
 
-// The paper's Tables 1-2 (meta-rl.md 4.4); absent for methods it did not run.
+// The paper's Tables 1-2; absent for methods it did not run.
 struct PaperNumbers {
   double mean_reward = 0.0;
   double std_reward = 0.0;

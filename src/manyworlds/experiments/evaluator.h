@@ -1,5 +1,5 @@
-// Evaluation by the published multi-task protocol (metaworld.md §4; MTRL's
-// evaluate_vec_env_of_tasks):
+// Evaluation by the published multi-task protocol (the Meta-World paper's;
+// MTRL's evaluate_vec_env_of_tasks):
 //  - deterministic (mean) actions;
 //  - an episode is a success if the env's `success` info field was 1 at any
 //    step (not only at the end);

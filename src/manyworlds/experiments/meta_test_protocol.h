@@ -1,5 +1,5 @@
 // The meta-test protocol (garage's MetaEvaluator, Meta-World v3's
-// metalearning_evaluation; meta-rl.md 1.0, metaworld.md 4.2): for every test
+// metalearning_evaluation): for every test
 // task and each of its variations, one trial in one env:
 //  1. exploration_episodes episodes with the actor sampling (the
 //     exploration policy), the actor seeing every step's outcome;

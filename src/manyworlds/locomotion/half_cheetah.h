@@ -1,5 +1,6 @@
 // A planar half-cheetah on MuJoCo with the meta-RL task families of MAML,
-// ProMP and PEARL (meta-rl.md 5.2):
+// ProMP and PEARL (maml_rl's half_cheetah_env_rand.py, ProMP's and oyster's
+// half-cheetah envs):
 //   half-cheetah-vel  task = target velocity v* ~ U[0, 2] (garage's and
 //                     maml_rl's range; oyster's code draws U[0, 3]);
 //                     reward = -|v_x - v*| - 0.05 |a|^2;

@@ -1,6 +1,7 @@
 // Meta-World-style benchmarks over the Sawyer tasks: MT1, MT10, MT25, MT50,
-// ML1, ML10, ML25, ML45 (metaworld.md §1.2 for the splits, §2.5–2.6 for the
-// variations).
+// ML1, ML10, ML25, ML45 (splits as Meta-World v3's env_dict.py, variations
+// as its benchmark classes in metaworld/__init__.py; docs/fidelity.md says
+// how our seeding differs).
 //
 // A benchmark is itself a multi-task env. Its tasks are pairs (task,
 // variation): every task has `num_variations` (50) variations (object and
@@ -54,7 +55,7 @@ struct BenchmarkConfig {
   RewardVersion reward_version = RewardVersion::kV2;
 };
 
-// The published splits (metaworld.md §1.2), as Meta-World v3's env_dict.py
+// The published splits, as Meta-World v3's env_dict.py
 // lists them: a task's position is its one-hot index.
 struct BenchmarkSplits {
   std::string id;           // registry id: "mt10", "ml45", ...

@@ -1,4 +1,5 @@
-// Shaped-reward primitives shared by the Sawyer tasks (metaworld.md §3.1):
+// Shaped-reward primitives shared by the Sawyer tasks (Meta-World v3's
+// metaworld/utils/reward_utils.py and SawyerXYZEnv._gripper_caging_reward):
 // long-tail and gaussian tolerances, the Hamacher product, and the
 // gripper-caging term.
 // All return values lie in [0, 1].
@@ -54,7 +55,7 @@ struct CagingParams {
   bool medium_density = false;  // result (H(caging, gripping) + reach) / 2
 };
 
-// The gripper-caging reward (metaworld.md §3.1): high when the pads bracket
+// The gripper-caging reward (v3's SawyerXYZEnv._gripper_caging_reward): high when the pads bracket
 // the object along y, the tcp is aligned with it in xz, and the gripper is
 // commanded closed.
 double GripperCagingReward(const CagingInputs& in, const CagingParams& params);

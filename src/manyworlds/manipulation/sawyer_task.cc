@@ -21,7 +21,7 @@ const char* const kArmJoints[7] = {"arm_j0", "arm_j1", "arm_j2", "arm_j3",
 constexpr double kArmHome[7] = {0.0, 0.502, 0.0, 2.342, 0.0, 0.297, 0.0};
 constexpr int kSettleSubsteps = 50 * kFrameSkip;
 
-// Observation bounds of the hand (metaworld.md §2.3).
+// Observation bounds of the hand (v3's SawyerXYZEnv._HAND_SPACE).
 constexpr float kHandSpaceLow[3] = {-0.525f, 0.348f, -0.0525f};
 constexpr float kHandSpaceHigh[3] = {0.525f, 1.025f, 0.7f};
 

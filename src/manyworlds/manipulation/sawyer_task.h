@@ -1,5 +1,5 @@
 // SawyerTask: the shared mechanics of the Meta-World-style tasks
-// (metaworld.md §2): mocap-driven hand, two-finger gripper, the 39-value
+// (Meta-World v3's SawyerXYZEnv, sawyer_xyz_env.py): mocap-driven hand, two-finger gripper, the 39-value
 // observation, reset and task variations. Each task derives from it, names
 // its MJCF file and ranges (SawyerTaskConfig) and writes its reward.
 //

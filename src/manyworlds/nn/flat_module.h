@@ -3,7 +3,8 @@
 // Every registered parameter is a view into `flat()`, and its gradient is a
 // view into `flat_grad()`: backward accumulates in place into the flat
 // gradient, so an optimizer or a Polyak update is one loop over one buffer
-// instead of a dispatch per tensor (performance.md §7.3).
+// instead of a dispatch per tensor (libtorch's per-op dispatch, not the
+// arithmetic, dominates updates of networks this small).
 //
 //   net->ZeroGrad();          // zero the flat gradient (not set_to_none)
 //   loss.backward();          // fills flat_grad()

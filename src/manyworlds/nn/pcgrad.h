@@ -1,5 +1,5 @@
 // PCGrad (Yu et al., "Gradient Surgery for Multi-Task Learning", 2020), the
-// gradient combination MTRL's pcgrad agents use (mtenv-mtrl.md B3).
+// gradient combination MTRL's pcgrad agents use (agent/pcgrad.py).
 //
 // Given one gradient per task g_1..g_T, each task's gradient is projected
 // away from every other task's gradient it conflicts with, visiting the

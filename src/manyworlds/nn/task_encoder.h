@@ -1,5 +1,6 @@
 // Learned task encodings and a task-weighted mixture of state encoders
-// (MTRL's TaskEncoder and CARE's mixture of encoders, mtenv-mtrl.md B4).
+// (MTRL's agent/components/task_encoder.py and CARE's mixture of encoders,
+// agent/components/moe_layer.py).
 //
 // TaskEncoder: Embedding(num_tasks, embedding_dim) -> ReLU -> MLP, one
 // encoding per task. Encode() computes all num_tasks encodings at once (a

@@ -6,7 +6,8 @@
 // sized by OPENBLAS_NUM_THREADS, default one thread per core), which runs
 // every GEMM. Nested, they oversubscribe the CPU: on 2 cores a SAC update
 // took 84 ms with OpenMP 2 + OpenBLAS 2 against 16.5 ms with OpenMP 1 +
-// OpenBLAS 2 (performance.md §5.2). So at most one of them may be > 1.
+// OpenBLAS 2 (our measurement, libtorch 1.13.1 and OpenBLAS 0.3.21 on 2
+// cores). So at most one of them may be > 1.
 //
 // Measured with `manyworlds bench agent` on the 2-core build machine (AMD
 // EPYC, libtorch 1.13.1, OpenBLAS 0.3.21 pthread "Haswell" kernels; SAC
@@ -20,8 +21,8 @@
 //   torch 1, BLAS 1 set at run time      58.9 - 61.5
 //   torch 1, OPENBLAS_NUM_THREADS=1      35.8 - 37.0  (slower than setting 1
 //                                        thread at run time; not explained)
-//   torch 2, BLAS 2                      refused by SetThreads (84 ms in
-//                                        performance.md §5.2)
+//   torch 2, BLAS 2                      refused by SetThreads (84 ms, the
+//                                        measurement above)
 // Splitting every small product across cores is the weak point: one thread
 // already runs the update at ~85 GFLOP/s (the sgemm rate of one core), two
 // BLAS threads reach only ~100. Data-parallel updates (SacConfig

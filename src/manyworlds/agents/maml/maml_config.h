@@ -1,6 +1,6 @@
 // Configuration of MAML with a TRPO outer step (Finn et al. 2017; garage's
 // MAMLTRPO). Defaults follow garage's point and half-cheetah launchers
-// where they have one (meta-rl.md 1.1): Gaussian MLP policy 2 x 64 tanh with
+// where they have one (maml_trpo_half_cheetah_dir.py): Gaussian MLP policy 2 x 64 tanh with
 // std in [0.5, 1.5], one inner vanilla policy-gradient step of lr 0.1, mean
 // KL <= 0.01 for the outer TRPO step, GAE lambda 1, the linear feature
 // baseline fitted per task instance, centred advantages. outer: "ppo" is

@@ -1,7 +1,7 @@
 // Configuration of PEARL (Rakelly et al. 2019, "Efficient Off-Policy
 // Meta-Reinforcement Learning via Probabilistic Context Variables").
-// Defaults are the original implementation's (oyster configs/default.py,
-// meta-rl.md 2.1-2.2): latent 5, networks 3 x 300, encoder 3 x 200, all
+// Defaults are the original implementation's (oyster's configs/default.py,
+// network sizes from its launch_experiment.py): latent 5, networks 3 x 300, encoder 3 x 200, all
 // learning rates 3e-4, reward scale 5, KL weight 0.1, information bottleneck
 // on, the context is (obs, action, reward) without the next observation
 // (oyster's default; the option is not offered), meta-batch 16 tasks, RL batch 256

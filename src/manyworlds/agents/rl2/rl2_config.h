@@ -1,5 +1,6 @@
 // Configuration of RL2 (Duan et al. 2016) trained with PPO, as garage's
-// RL2PPO. Defaults follow garage's Meta-World launchers (meta-rl.md 1.2):
+// RL2PPO. Defaults follow garage's Meta-World launchers (v2 branch,
+// metaworld_examples/rl2_ppo_metaworld_ml10.py):
 // GRU width 256, std in [0.5, 1.5], Adam 5e-4, clip 0.2, GAE 0.95, 10
 // epochs, entropy "max" with coefficient 5e-6, advantages not centred, the
 // linear feature baseline; 10 episodes per trial.

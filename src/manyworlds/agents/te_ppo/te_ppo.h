@@ -1,6 +1,6 @@
 // TE-PPO: PPO with learned task embeddings (Hausman et al., "Learning an
 // Embedding Space for Transferable Robot Skills", ICLR 2018), with the
-// terms of garage's TEPPO (meta-rl.md 1.4).
+// terms of garage's TEPPO (src/garage/tf/algos/te_npo.py).
 //
 // Networks:
 //   encoder    q(z | task): Gaussian over a latent z in R^Z from the one-hot

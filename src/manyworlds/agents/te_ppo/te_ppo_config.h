@@ -1,6 +1,7 @@
 // Configuration of TE-PPO (see te_ppo.h); torch-free so that configs can be
 // read and validated without the networks. Defaults are garage's TEPPO
-// MT10 launcher's where our networks can express them (meta-rl.md 1.4):
+// MT10 launcher's where our networks can express them (v2 branch,
+// metaworld_examples/te_ppo_metaworld_mt10.py):
 // latent 4, inference window 6, encoder std in [1e-6, 0.2] from 0.1,
 // inference std from 2.0, policy lr 1e-3, clip 0.2, 10 epochs, policy
 // entropy 2e-2 (softplus), encoder entropy 2e-4, inference cross-entropy
