@@ -61,7 +61,13 @@ function(manyworlds_tests)
     # Test helpers are included as "tests/<area>/<file>.h".
     target_include_directories(${target} PRIVATE ${PROJECT_SOURCE_DIR})
     manyworlds_compile_options(${target})
+    # One OpenBLAS thread per test process: ctest -j runs one test per core,
+    # and two processes with a BLAS thread on every core oversubscribe the
+    # cores, whose spinning workers then wait for each other's time slices
+    # (a PEARL update 13x slower beside any other busy process; docs/benchmarks.md).
+    # Tests that need more threads set them (nn::SetThreads).
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
-      PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
+      PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
+                 ENVIRONMENT_MODIFICATION "OPENBLAS_NUM_THREADS=set:1")
   endforeach()
 endfunction()
