@@ -14,6 +14,7 @@
 
 #include "manyworlds/config/yaml.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/scratch_dir.h"
 
 namespace manyworlds {
 namespace {
@@ -31,11 +32,7 @@ RunResult RunCli(const std::string& args, const fs::path& cwd = fs::temp_directo
 
 fs::path ScratchDir() {
   const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = fs::temp_directory_path() /
-                 ("manyworlds_cli_test_" + std::to_string(getpid()) + "_" + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test_support::ScratchDir("cli", info->name(), /*create=*/true);
 }
 
 TEST(CliTest, HelpExitsZeroEverywhere) {

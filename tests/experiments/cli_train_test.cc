@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/scratch_dir.h"
 
 namespace manyworlds {
 namespace {
@@ -35,11 +36,7 @@ RunResult RunCli(const std::string& args, const fs::path& cwd) {
 
 fs::path ScratchDir() {
   const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-  fs::path dir = fs::temp_directory_path() /
-                 ("mw_cli_train_test_" + std::to_string(getpid()) + "_" + info->name());
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test_support::ScratchDir("cli_train", info->name(), /*create=*/true);
 }
 
 constexpr char kTinyConfig[] = R"(env:

@@ -3,11 +3,11 @@
 #ifndef MANYWORLDS_TESTS_EXPERIMENTS_SCRATCH_DIRS_H_
 #define MANYWORLDS_TESTS_EXPERIMENTS_SCRATCH_DIRS_H_
 
-#include <unistd.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+
+#include "tests/support/scratch_dir.h"
 
 namespace manyworlds::experiments::test_dirs {
 
@@ -19,12 +19,10 @@ inline std::filesystem::path SourceDir() {
 }
 
 // An emptied directory path in the temp dir, unique to this process, the
-// test file (`suite`) and `name`; it is not created.
+// test file (`suite`) and `name`; it is not created. Removed after the
+// program if every test passed.
 inline std::filesystem::path Scratch(const std::string& suite, const std::string& name) {
-  std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                              ("mw_" + suite + "_test_" + std::to_string(getpid()) + "_" + name);
-  std::filesystem::remove_all(dir);
-  return dir;
+  return test_support::ScratchDir(suite, name, /*create=*/false);
 }
 
 }  // namespace manyworlds::experiments::test_dirs

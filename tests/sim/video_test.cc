@@ -15,6 +15,7 @@
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
+#include "tests/support/scratch_dir.h"
 
 namespace manyworlds::sim {
 namespace {
@@ -24,11 +25,7 @@ namespace fs = std::filesystem;
 bool HaveFfmpeg() { return std::system("ffmpeg -version > /dev/null 2>&1") == 0; }
 
 fs::path Scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("mw_video_test_" + std::to_string(getpid()) + "_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
+  return test_support::ScratchDir("video", name, /*create=*/true);
 }
 
 size_t Entries(const fs::path& dir) {
