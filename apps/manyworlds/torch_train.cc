@@ -23,6 +23,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
+#include "manyworlds/nn/threads.h"
 
 namespace manyworlds::cli {
 namespace {
@@ -181,6 +182,11 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
   const int64_t steps = trainer->config().experiment.steps_per_task;
   status.Start(*trainer, steps);
   for (const std::string& warning : trainer->warnings()) status.Note("warning: " + warning);
+  if (trainer->step() == 0) {  // a resumed run must keep its thread count
+    const std::string advice =
+        nn::BlasContentionAdvice(nn::OneMinuteLoadAverage(), nn::CurrentThreads().blas_threads);
+    if (!advice.empty()) status.Note("warning: " + advice);
+  }
   if (trainer->step() > 0) {
     status.Note("train: resuming " + run_dir + " at step " + std::to_string(trainer->step()));
   }

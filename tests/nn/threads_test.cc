@@ -24,9 +24,34 @@ TEST(BlasKernelsTest, OpenBlasRunsTheKernelsOfThisCpu) {
   }
 }
 
+TEST(ThreadsTest, LearnerDefaultIsOneIntraOpThreadAndBlasOneWithOwnThreads) {
+  ConfigureTorchThreads(/*own_threads=*/true);
+  const ThreadInfo info = CurrentThreads();
+  EXPECT_EQ(info.torch_intra_op, 1);
+  if (info.blas_threads >= 0) {
+    EXPECT_EQ(info.blas_threads, 1);
+  }
+  EXPECT_THROW(SetThreads(2, 2), ConfigError);
+  EXPECT_THROW(SetThreads(0, 1), ConfigError);
+}
+
+// The advice names the load and the remedy, and only when both apply.
+TEST(ThreadsTest, BlasContentionAdviceOnlyForSeveralThreadsOnABusyMachine) {
+  const std::string advice = BlasContentionAdvice(1.8, 2);
+  EXPECT_NE(advice.find("load average 1.80"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("OPENBLAS_NUM_THREADS=1"), std::string::npos) << advice;
+  EXPECT_EQ(BlasContentionAdvice(1.8, 1), "");
+  EXPECT_EQ(BlasContentionAdvice(0.2, 2), "");
+  EXPECT_EQ(BlasContentionAdvice(-1.0, 2), "");  // unreadable load average
+  EXPECT_GE(OneMinuteLoadAverage(), 0.0);        // Linux has /proc/loadavg
+}
+
 // The kernels selected at start-up compute correct products (against a
-// double-precision loop), on one BLAS thread and on several.
-TEST(BlasKernelsTest, SelectedKernelsMultiplyCorrectly) {
+// double-precision loop), on one BLAS thread and on several. Last, in a
+// suite of its own so that it runs after the others in one process:
+// SetThreads is process-wide and final (ConfigureTorchThreads then leaves
+// the threads alone), and ThreadsTest needs the defaults.
+TEST(BlasProductsTest, SelectedKernelsMultiplyCorrectly) {
   torch::manual_seed(3);
   const torch::Tensor a = torch::randn({128, 43});
   const torch::Tensor b = torch::randn({43, 400});
@@ -44,17 +69,6 @@ TEST(BlasKernelsTest, SelectedKernelsMultiplyCorrectly) {
     const torch::Tensor product = torch::mm(a, b).to(torch::kFloat64);
     EXPECT_LT((product - expected).abs().max().item<double>(), 1e-4) << threads << " threads";
   }
-}
-
-TEST(ThreadsTest, LearnerDefaultIsOneIntraOpThreadAndBlasOneWithOwnThreads) {
-  ConfigureTorchThreads(/*own_threads=*/true);
-  const ThreadInfo info = CurrentThreads();
-  EXPECT_EQ(info.torch_intra_op, 1);
-  if (info.blas_threads >= 0) {
-    EXPECT_EQ(info.blas_threads, 1);
-  }
-  EXPECT_THROW(SetThreads(2, 2), ConfigError);
-  EXPECT_THROW(SetThreads(0, 1), ConfigError);
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 #include <dlfcn.h>
 
 #include <atomic>
+#include <cstdio>
+#include <fstream>
 #include <string>
 
 #include <torch/torch.h>
@@ -65,6 +67,24 @@ ThreadInfo CurrentThreads() {
   auto core = FindBlasFunction<char* (*)()>("openblas_get_corename");
   info.blas_core = core != nullptr ? std::string(core()) : "unknown";
   return info;
+}
+
+std::string BlasContentionAdvice(double load_average, int blas_threads) {
+  if (blas_threads <= 1 || load_average < 0.75) return "";
+  char load[32];
+  std::snprintf(load, sizeof(load), "%.2f", load_average);
+  return "other processes keep the cores busy (load average " + std::string(load) +
+         ") and OpenBLAS runs " + std::to_string(blas_threads) +
+         " threads: beside other work its updates run several times slower. Start runs that "
+         "share the machine with OPENBLAS_NUM_THREADS=1 (docs/benchmarks.md, \"BLAS threads on a "
+         "shared machine\")";
+}
+
+double OneMinuteLoadAverage() {
+  std::ifstream in("/proc/loadavg");
+  double load = -1.0;
+  if (!(in >> load)) return -1.0;
+  return load;
 }
 
 }  // namespace manyworlds::nn

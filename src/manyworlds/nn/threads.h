@@ -60,6 +60,17 @@ struct ThreadInfo {
 };
 ThreadInfo CurrentThreads();
 
+// Advice for a run about to start with `blas_threads` OpenBLAS threads while
+// the machine's one-minute load average is `load_average`: beside other busy
+// processes, OpenBLAS workers on every core wait for each other's time
+// slices and updates run 5-14x slower (docs/benchmarks.md, "BLAS threads on
+// a shared machine"). Empty when there is nothing to say (one thread, or a
+// load average below 0.75).
+std::string BlasContentionAdvice(double load_average, int blas_threads);
+
+// The one-minute load average (/proc/loadavg), or -1 where it cannot be read.
+double OneMinuteLoadAverage();
+
 }  // namespace manyworlds::nn
 
 #endif  // MANYWORLDS_NN_THREADS_H_
