@@ -97,8 +97,7 @@ TEST(MamlTest, MetaGradientThroughTheInnerStepMatchesFiniteDifferences) {
   const double eps = 1e-6;
   double max_error = 0.0, max_first_order_error = 0.0, max_gradient = 0.0;
   for (size_t j = 0; j < theta.size(); ++j) {
-    const torch::Tensor flat = theta[j].detach().reshape(-1);
-    for (int64_t k = 0; k < flat.numel(); ++k) {
+    for (int64_t k = 0; k < theta[j].numel(); ++k) {
       auto shifted = [&](double delta) {
         std::vector<torch::Tensor> params;
         for (const torch::Tensor& p : theta) params.push_back(p.detach().clone());

@@ -1,13 +1,8 @@
 // Runs the built `manyworlds` binary (MANYWORLDS_CLI_PATH) as a user would.
-#include <sys/wait.h>
-
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>

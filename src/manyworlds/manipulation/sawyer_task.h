@@ -1,7 +1,8 @@
-// SawyerTask: the shared mechanics of the Meta-World-style tasks
-// (Meta-World v3's SawyerXYZEnv, sawyer_xyz_env.py): mocap-driven hand, two-finger gripper, the 39-value
-// observation, reset and task variations. Each task derives from it, names
-// its MJCF file and ranges (SawyerTaskConfig) and writes its reward.
+// SawyerTask: the shared mechanics of the Meta-World-style tasks (Meta-World
+// v3's SawyerXYZEnv, sawyer_xyz_env.py): mocap-driven hand, two-finger
+// gripper, the 39-value observation, reset and task variations. Each task
+// derives from it, names its MJCF file and ranges (SawyerTaskConfig) and
+// writes its reward.
 //
 // Action (4, in [-1, 1]): a[0:3] hand displacement, 1 cm per unit per step,
 //   clipped to the task's hand bounds, orientation fixed; a[3] gripper
