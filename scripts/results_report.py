@@ -4,10 +4,13 @@
 Reads each run's eval.jsonl (required), metrics.jsonl and config.yaml
 (optional) and writes mean_success.svg, per_task_success.svg, results.md and
 results.csv into --out. Standard library only; run directories are only read.
+--up-to compares runs at one budget while they go on; --history draws the runs
+of an earlier report (its results.csv) beside them, dashed.
 
 Example:
   python3 scripts/results_report.py runs/mt10_mtsac runs/mt10_multihead \\
-      --out report --reference "MT-SAC (MTRL, MT10 at 2M steps)=0.61"
+      --out report --reference "MT-SAC (MTRL, MT10 at 2M steps)=0.61" \\
+      --up-to 200000 --history old_report/results.csv
 """
 import argparse
 import csv
@@ -108,14 +111,71 @@ def load_run(path):
             "arch": cfg.get("agent.architecture", ""), "seed": cfg.get("experiment.seed", "")}
 
 
+def load_history(path):
+    """The runs of an earlier report's results.csv (run,step,task,success,return)."""
+    if not os.path.isfile(path):
+        raise ReportError(f"--history file not found: {path}")
+    runs = {}
+    with open(path, encoding="utf-8", errors="replace", newline="") as f:
+        reader = csv.DictReader(f)
+        expected = ["run", "step", "task", "success", "return"]
+        if reader.fieldnames != expected:
+            raise ReportError(f"--history {path}: expected the columns {','.join(expected)} "
+                              f"of a results.csv, got {','.join(reader.fieldnames or [])}")
+        for line, row in enumerate(reader, start=2):
+            try:
+                step = int(row["step"])
+                success = float(row["success"]) if row["success"] else None
+                ret = float(row["return"]) if row["return"] else None
+            except ValueError:
+                raise ReportError(f"--history {path} line {line}: step, success and return "
+                                  "must be numbers") from None
+            ev = runs.setdefault(row["run"], {}).setdefault(
+                step, {"step": step, "success": None, "return": None, "tasks": {},
+                       "episodes": None})
+            if row["task"] == "mean":
+                ev["success"], ev["return"] = success, ret
+            else:
+                ev["tasks"][row["task"]] = (success, ret)
+    tag = os.path.basename(os.path.dirname(os.path.abspath(path)))
+    out = []
+    for name, by_step in runs.items():
+        evals = [by_step[s] for s in sorted(by_step) if by_step[s]["success"] is not None]
+        if evals:
+            out.append({"path": path, "evals": evals, "metrics": [], "arch": "", "seed": "",
+                        "history": name, "label": f"{name} ({tag})"})
+    if not out:
+        raise ReportError(f"--history {path} holds no mean-success rows")
+    return out
+
+
+def cut_at(run, step):
+    """The run as it stood at `step` (evaluations and metrics rows after it dropped)."""
+    run["evals"] = [e for e in run["evals"] if e["step"] <= step]
+    run["metrics"] = [m for m in run["metrics"]
+                      if not isinstance(m.get("step"), (int, float)) or m["step"] <= step]
+    if not run["evals"]:
+        raise ReportError(f"{run['path']}: no evaluation at or before --up-to {step:,}")
+
+
 def label_runs(runs):
-    """Colour by position; label = basename, parent/basename where basenames collide."""
-    names = [os.path.basename(os.path.normpath(r["path"])) for r in runs]
-    for i, (run, name) in enumerate(zip(runs, names)):
+    """Colour by position; label = basename, parent/basename where basenames collide.
+
+    A history run takes the colour of the current run whose label starts with its name
+    (mt10_mtsac_v3 pairs with an earlier mt10_mtsac), else the next unused colour.
+    """
+    current = [r for r in runs if "history" not in r]
+    names = [os.path.basename(os.path.normpath(r["path"])) for r in current]
+    for i, (run, name) in enumerate(zip(current, names)):
         if names.count(name) > 1:
             parent = os.path.basename(os.path.dirname(os.path.abspath(run["path"])))
             name = f"{parent}/{name}"
         run["label"], run["color"] = name, COLORS[i % len(COLORS)]
+    spare = iter(COLORS[len(current):] * len(runs))
+    for run in runs:
+        if "history" in run:
+            pair = next((c for c in current if c["label"].startswith(run["history"])), None)
+            run["color"] = pair["color"] if pair else next(spare)
 
 
 def parse_reference(text):
@@ -202,14 +262,15 @@ def panel(x0, y0, w, h, series, xticks, yticks, refs=(), size=11, dashed=()):
 
 
 def legend(x0, y0, max_w, entries, size=12):
-    """Flowing legend rows of (color, label); returns (svg parts, height used)."""
+    """Flowing legend rows of (color, label[, dashed]); returns (svg parts, height used)."""
     out, x, y = [], x0, y0
-    for color, label in entries:
+    for color, label, *style in entries:
         w = 30 + len(label) * size * 0.6
         if x > x0 and x + w > x0 + max_w:
             x, y = x0, y + size + 8
+        dash = ' stroke-dasharray="5 3"' if style and style[0] else ""
         out.append(f'<line x1="{x}" y1="{y - size * 0.35:.1f}" x2="{x + 20}" '
-                   f'y2="{y - size * 0.35:.1f}" stroke="{color}" stroke-width="3"/>')
+                   f'y2="{y - size * 0.35:.1f}" stroke="{color}" stroke-width="3"{dash}/>')
         out.append(text(x + 25, y, label, size))
         x += w + 14
     return out, y - y0 + size + 8
@@ -221,17 +282,26 @@ def svg_doc(width, height, parts):
             f'<rect width="100%" height="100%" fill="white"/>\n' + "\n".join(parts) + "\n</svg>\n")
 
 
+def dashed_runs(runs):
+    return {i for i, r in enumerate(runs) if "history" in r}
+
+
+def legend_entries(runs):
+    return [(r["color"], r["label"], "history" in r) for r in runs]
+
+
 def mean_chart(runs, refs, title, width=720):
     """Line chart of mean success vs env steps per task, one line per run."""
     left, top, plot_w, plot_h = 62, 44, width - 62 - 24, 290
     xt = nice_ticks(max(e["step"] for r in runs for e in r["evals"]), 6)
     series = [(r["color"], [(e["step"], e["success"]) for e in r["evals"]]) for r in runs]
     parts = [text(width / 2, 26, title, 16, "middle", extra='font-weight="bold"')]
-    parts += panel(left, top, plot_w, plot_h, series, xt, [i / 5 for i in range(6)], refs, 12)
+    parts += panel(left, top, plot_w, plot_h, series, xt, [i / 5 for i in range(6)], refs, 12,
+                   dashed_runs(runs))
     parts.append(text(left + plot_w / 2, top + plot_h + 38, "environment steps per task", 13, "middle"))
     parts.append(text(18, top + plot_h / 2, "mean success rate", 13, "middle",
                       extra=f'transform="rotate(-90 18 {top + plot_h / 2})"'))
-    leg, leg_h = legend(left, top + plot_h + 66, plot_w, [(r["color"], r["label"]) for r in runs])
+    leg, leg_h = legend(left, top + plot_h + 66, plot_w, legend_entries(runs))
     return svg_doc(width, top + plot_h + 54 + leg_h, parts + leg)
 
 
@@ -250,10 +320,10 @@ def task_chart(runs, tasks, title, cols=5, cell_w=200, cell_h=168):
         series = [(r["color"], [(e["step"], e["tasks"][task][0]) for e in r["evals"]
                                 if e["tasks"].get(task, (None,))[0] is not None]) for r in runs]
         parts += panel(cx + 36, cy + 22, cell_w - 48, cell_h - 66, series, xt, [0, 0.5, 1],
-                       size=10)
+                       size=10, dashed=dashed_runs(runs))
     bottom = top + rows * cell_h - 4
     parts.append(text(width / 2, bottom, "environment steps per task; y = success rate", 12, "middle"))
-    leg, leg_h = legend(46, bottom + 26, width - 60, [(r["color"], r["label"]) for r in runs])
+    leg, leg_h = legend(46, bottom + 26, width - 60, legend_entries(runs))
     return svg_doc(width, bottom + 16 + leg_h, parts + leg)
 
 
@@ -278,7 +348,7 @@ def md_table(header, rows, left=1):
             for line in [header, align] + rows]
 
 
-def results_md(runs, tasks, refs, title):
+def results_md(runs, tasks, refs, title, up_to=None):
     """Markdown fragment: summary table, final per-task table, references."""
     na = "n/a"
     out = [f"## {title}", "", "![mean success](mean_success.svg)", ""]
@@ -295,7 +365,14 @@ def results_md(runs, tasks, refs, title):
     episodes = {str(r["evals"][-1]["episodes"]) for r in runs if r["evals"][-1]["episodes"]}
     out += ["", "Steps are environment steps per task. Success is the fraction of evaluation "
             f"episodes solved ({'/'.join(sorted(episodes)) or 'n/a'} per task); updates/s excludes "
-            "warm-up rounds without updates.", "", "### Per-task success at the final evaluation", "",
+            "warm-up rounds without updates."]
+    if up_to is not None:
+        out += ["", f"Evaluations after {up_to:,} steps per task are left out (`--up-to`), so "
+                "every run is shown at the same budget or less."]
+    if any("history" in r for r in runs):
+        out += ["", "Runs labelled with a folder name in parentheses (dashed lines) are an "
+                "earlier report's, read from its results.csv (`--history`)."]
+    out += ["", "### Per-task success at the final evaluation", "",
             "![per-task success](per_task_success.svg)", ""]
     header = ["task"] + [f"`{r['label']}` ({r['evals'][-1]['step']:,})" for r in runs]
     rows = []
@@ -347,12 +424,25 @@ def main(argv=None):
     p.add_argument("--title", default="Results", help="report / chart title (default: Results)")
     p.add_argument("--reference", action="append", default=[], metavar="NAME=VALUE",
                    help="published mean success to draw as a dashed line (repeatable)")
+    p.add_argument("--up-to", type=int, metavar="STEP",
+                   help="leave out evaluations after STEP steps per task (compare at one budget)")
+    p.add_argument("--history", action="append", default=[], metavar="RESULTS_CSV",
+                   help="an earlier report's results.csv whose runs are drawn dashed beside "
+                        "these, labelled with its folder's name (repeatable)")
     args = p.parse_args(argv)
     try:
+        if args.up_to is not None and args.up_to <= 0:
+            raise ReportError(f"--up-to must be a positive step count, got {args.up_to}")
         refs = [parse_reference(t) for t in args.reference]
         runs = [load_run(d) for d in args.runs]
+        runs += [h for path in args.history for h in load_history(path)]
+        if args.up_to is not None:
+            for r in runs:
+                cut_at(r, args.up_to)
         out = os.path.abspath(args.out)
         for r in runs:
+            if "history" in r:
+                continue
             rd = os.path.abspath(r["path"])
             if os.path.commonpath([out, rd]) == rd:
                 raise ReportError(f"--out must not be inside run directory {r['path']}")
@@ -365,7 +455,7 @@ def main(argv=None):
         write_atomic(out, "mean_success.svg", mean_chart(runs, refs, f"{args.title}: mean success over tasks"))
         if tasks:
             write_atomic(out, "per_task_success.svg", task_chart(runs, tasks, f"{args.title}: success per task"))
-        write_atomic(out, "results.md", results_md(runs, tasks, refs, args.title))
+        write_atomic(out, "results.md", results_md(runs, tasks, refs, args.title, args.up_to))
         write_atomic(out, "results.csv", results_csv(runs))
     except ReportError as e:
         print(f"error: {e}", file=sys.stderr)
