@@ -21,6 +21,7 @@
 #include "apps/manyworlds/commands.h"
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/algorithms.h"
 #include "manyworlds/experiments/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/nn/threads.h"
@@ -418,12 +419,21 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
             << Success(result.mean_success) << "\n";
 }
 
+// The registry's names, so that the help can never fall behind it.
+std::string AlgorithmNames() {
+  std::string names;
+  for (const experiments::AlgorithmInfo& a : experiments::Algorithms()) {
+    names += (names.empty() ? "" : ", ") + a.name;
+  }
+  return names;
+}
+
 void AddTrainCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "train", "Train any registered algorithm (agent.algo: sac, ppo, trpo, te_ppo, rl2); writes "
-               "config.yaml, metrics, evaluations, checkpoints and summary.json into the run "
-               "directory");
+      "train", "Train any registered algorithm (agent.algo: " + AlgorithmNames() +
+                   "); writes config.yaml, metrics, evaluations, checkpoints and summary.json "
+                   "into the run directory");
   cmd->add_option("args", args->positional,
                   "CONFIG [key=value ...]: a YAML file (see configs/) and Hydra-style "
                   "overrides such as experiment.seed=2 agent.hidden_dim=64");

@@ -33,11 +33,31 @@ fs::path ScratchDir() {
 TEST(CliTest, HelpExitsZeroEverywhere) {
   for (const char* args : {"--help", "envs --help", "rollout --help", "check-env --help",
                            "bench --help", "bench env --help", "demo --help",
-                           "export-xml --help"}) {
+                           "export-xml --help", "render --help", "baselines --help",
+                           "train --help", "eval --help", "study --help"}) {
     const RunResult r = RunCli(args);
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
   }
+}
+
+// The top-level help names every algorithm that `agent.algo` accepts: the list the
+// registry's own error message gives.
+TEST(CliTest, HelpNamesEveryRegisteredAlgorithm) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "bad.yaml") << "agent:\n  algo: no_such_algorithm\n";
+  const RunResult bad = RunCli("train bad.yaml", dir);
+  EXPECT_NE(bad.exit_code, 0);
+  const size_t at = bad.err.find("allowed: ");
+  ASSERT_NE(at, std::string::npos) << bad.err;
+  std::string allowed = bad.err.substr(at + 9);
+  allowed = allowed.substr(0, allowed.find_first_of("\n"));
+  EXPECT_NE(allowed.find("maml"), std::string::npos) << allowed;
+  EXPECT_NE(allowed.find("pearl"), std::string::npos) << allowed;
+  const RunResult help = RunCli("--help");
+  ASSERT_EQ(help.exit_code, 0);
+  EXPECT_NE(help.out.find("(agent.algo: " + allowed + ")"), std::string::npos)
+      << "allowed: " << allowed << "\n" << help.out;
 }
 
 TEST(CliTest, EnvsListsTheClassicSuite) {
