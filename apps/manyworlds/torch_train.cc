@@ -419,19 +419,10 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
             << Success(result.mean_success) << "\n";
 }
 
-// The registry's names, so that the help can never fall behind it.
-std::string AlgorithmNames() {
-  std::string names;
-  for (const experiments::AlgorithmInfo& a : experiments::Algorithms()) {
-    names += (names.empty() ? "" : ", ") + a.name;
-  }
-  return names;
-}
-
 void AddTrainCommand(CLI::App& app, CommandContext& context) {
   auto args = std::make_shared<TrainArgs>();
   CLI::App* cmd = app.add_subcommand(
-      "train", "Train any registered algorithm (agent.algo: " + AlgorithmNames() +
+      "train", "Train any registered algorithm (agent.algo: " + experiments::AlgorithmNames() +
                    "); writes config.yaml, metrics, evaluations, checkpoints and summary.json "
                    "into the run directory");
   cmd->add_option("args", args->positional,

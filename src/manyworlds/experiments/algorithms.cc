@@ -132,16 +132,20 @@ const std::vector<AlgorithmInfo>& Algorithms() {
   return list;
 }
 
+std::string AlgorithmNames() {
+  std::string names;
+  for (const AlgorithmInfo& a : Algorithms()) names += (names.empty() ? "" : ", ") + a.name;
+  return names;
+}
+
 const AlgorithmInfo& FindAlgorithm(const std::string& name) {
   std::vector<std::string> names;
   for (const AlgorithmInfo& a : Algorithms()) {
     if (a.name == name) return a;
     names.push_back(a.name);
   }
-  std::string allowed;
-  for (const std::string& n : names) allowed += (allowed.empty() ? "" : ", ") + n;
   throw ConfigError("'agent.algo': unknown algorithm '" + name + "'" +
-                    SuggestNearest(name, names) + "; allowed: " + allowed);
+                    SuggestNearest(name, names) + "; allowed: " + AlgorithmNames());
 }
 
 const char* FamilyName(AlgorithmFamily family) {

@@ -41,6 +41,8 @@ struct AlgorithmInfo {
 const std::vector<AlgorithmInfo>& Algorithms();
 // ConfigError naming the valid algorithms (and the nearest one) if unknown.
 const AlgorithmInfo& FindAlgorithm(const std::string& name);
+// The registered names, comma-separated in registry order (help texts and errors).
+std::string AlgorithmNames();
 const char* FamilyName(AlgorithmFamily family);
 
 // The default config of an algorithm.
