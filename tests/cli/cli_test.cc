@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -30,20 +31,54 @@ fs::path ScratchDir() {
   return test_support::ScratchDir("cli", info->name(), /*create=*/true);
 }
 
+// The training commands need libtorch; the program is also built without it
+// (MANYWORLDS_WITH_TORCH=OFF, as scripts/sanitize.sh does).
+#ifdef MANYWORLDS_CLI_HAS_TRAINING
+constexpr bool kHasTrainingCommands = true;
+#else
+constexpr bool kHasTrainingCommands = false;
+#endif
+constexpr const char* kTrainingCommands[] = {"train", "eval", "study"};
+
 TEST(CliTest, HelpExitsZeroEverywhere) {
-  for (const char* args : {"--help", "envs --help", "rollout --help", "check-env --help",
-                           "bench --help", "bench env --help", "demo --help",
-                           "export-xml --help", "render --help", "baselines --help",
-                           "train --help", "eval --help", "study --help"}) {
+  std::vector<std::string> commands = {"--help", "envs --help", "rollout --help",
+                                       "check-env --help", "bench --help", "bench env --help",
+                                       "demo --help", "export-xml --help", "render --help",
+                                       "baselines --help"};
+  if (kHasTrainingCommands) {
+    for (const char* c : kTrainingCommands) commands.push_back(std::string(c) + " --help");
+  }
+  for (const std::string& args : commands) {
     const RunResult r = RunCli(args);
     EXPECT_EQ(r.exit_code, 0) << args << "\n" << r.err;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << args;
   }
 }
 
+// Without libtorch the training commands are absent, and saying so is a usage
+// error like any unknown command, never a crash.
+TEST(CliTest, TrainingCommandsExistExactlyWhenBuiltWithLibtorch) {
+  const RunResult help = RunCli("--help");
+  ASSERT_EQ(help.exit_code, 0) << help.err;
+  for (const char* c : kTrainingCommands) {
+    const std::string line = "  " + std::string(c) + " ";
+    EXPECT_EQ(help.out.find(line) != std::string::npos, kHasTrainingCommands) << c;
+    const RunResult r = RunCli(std::string(c) + " --help");
+    if (kHasTrainingCommands) {
+      EXPECT_EQ(r.exit_code, 0) << c << "\n" << r.err;
+    } else {
+      EXPECT_EQ(r.exit_code, 2) << c;
+      EXPECT_TRUE(IsOneErrorLine(r.err)) << r.err;
+      EXPECT_NE(r.err.find("unknown command '" + std::string(c) + "'"), std::string::npos)
+          << r.err;
+    }
+  }
+}
+
 // The top-level help names every algorithm that `agent.algo` accepts: the list the
 // registry's own error message gives.
 TEST(CliTest, HelpNamesEveryRegisteredAlgorithm) {
+  if (!kHasTrainingCommands) GTEST_SKIP() << "built without libtorch: no train command";
   const fs::path dir = ScratchDir();
   std::ofstream(dir / "bad.yaml") << "agent:\n  algo: no_such_algorithm\n";
   const RunResult bad = RunCli("train bad.yaml", dir);
