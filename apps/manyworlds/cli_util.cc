@@ -164,6 +164,7 @@ ProgressBar::ProgressBar(std::string label, int64_t total, std::string unit, boo
       start_(Clock::now()),
       last_draw_(start_) {
   enabled_ = tty_ || force;
+  remaining_.Update(0, static_cast<double>(total_), start_);
 }
 
 ProgressBar::~ProgressBar() {
@@ -215,15 +216,15 @@ void StatusLine::Clear() {
 }
 
 void ProgressBar::Draw(bool final) {
-  const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+  const auto now = Clock::now();
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
   const double rate = elapsed > 0 ? static_cast<double>(done_) / elapsed : 0.0;
   const double fraction = total_ > 0 ? std::min(1.0, static_cast<double>(done_) / total_) : 1.0;
   std::string text = label_ + " " + std::to_string(done_) + "/" + std::to_string(total_) + " " +
                      unit_ + " " + Bar(fraction, 24) + " " + Human(rate) + " " + unit_ + "/s";
-  if (!final && rate > 0) {
-    const auto eta = static_cast<int64_t>(std::ceil((total_ - done_) / rate));
-    text += " ETA " + std::to_string(eta) + "s";
-  }
+  const double eta =
+      remaining_.Update(static_cast<double>(done_), static_cast<double>(total_), now);
+  if (!final && eta >= 0) text += " ETA " + FormatDuration(eta);
   if (tty_) {
     std::cerr << "\r\033[K" << text << std::flush;
   } else {

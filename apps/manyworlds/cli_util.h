@@ -14,6 +14,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "apps/manyworlds/remaining_time.h"
 #include "manyworlds/core/env.h"
 #include "manyworlds/core/policy.h"
 
@@ -118,6 +119,7 @@ class ProgressBar {
   int64_t total_, done_ = 0;
   bool enabled_, tty_;
   Clock::time_point start_, last_draw_;
+  RemainingTime remaining_;
 };
 
 }  // namespace manyworlds::cli

@@ -17,6 +17,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "apps/manyworlds/remaining_time.h"
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/boxworld_study.h"
@@ -34,20 +35,6 @@ struct StudyArgs {
   bool json = false;
 };
 
-std::string Clock(double seconds) {
-  if (!(seconds >= 0) || seconds > 1e7) return "?";
-  const auto s = static_cast<long long>(seconds + 0.5);
-  char text[32];
-  if (s >= 3600) {
-    std::snprintf(text, sizeof(text), "%lldh%02lldm", s / 3600, s % 3600 / 60);
-  } else if (s >= 60) {
-    std::snprintf(text, sizeof(text), "%lldm%02llds", s / 60, s % 60);
-  } else {
-    std::snprintf(text, sizeof(text), "%llds", s);
-  }
-  return text;
-}
-
 // One redrawn status line on stderr (as `train`'s): the method, its phase,
 // the running run's steps, bar, env steps/s and ETA.
 class StudyStatus {
@@ -60,8 +47,7 @@ class StudyStatus {
     if (p.phase != phase_ || p.method != method_) {
       phase_ = p.phase;
       method_ = p.method;
-      phase_start_ = now;
-      phase_start_step_ = p.train.step;
+      remaining_.Reset();
     } else if (now - last_ <
                (line_.tty() ? std::chrono::milliseconds(100) : std::chrono::seconds(5))) {
       return;
@@ -72,13 +58,11 @@ class StudyStatus {
     if (p.train.total_steps > 0) {
       const double fraction =
           static_cast<double>(p.train.step) / static_cast<double>(p.train.total_steps);
-      const double elapsed = std::chrono::duration<double>(now - phase_start_).count();
-      const double done = static_cast<double>(p.train.step - phase_start_step_);
-      const double eta =
-          done > 0 ? elapsed / done * static_cast<double>(p.train.total_steps - p.train.step) : -1;
+      const double eta = remaining_.Update(static_cast<double>(p.train.step),
+                                           static_cast<double>(p.train.total_steps), now);
       line += " " + Human(static_cast<double>(p.train.step)) + "/" +
               Human(static_cast<double>(p.train.total_steps)) + " steps/env " + Bar(fraction) + " " +
-              Human(p.train.env_steps_per_s) + " env steps/s ETA " + Clock(eta);
+              Human(p.train.env_steps_per_s) + " env steps/s ETA " + FormatDuration(eta);
     }
     line_.Write(line);
   }
@@ -93,8 +77,8 @@ class StudyStatus {
   StatusLine line_;
   bool enabled_;
   std::string phase_, method_;
-  Steady::time_point last_{}, phase_start_{};
-  int64_t phase_start_step_ = 0;
+  Steady::time_point last_{};
+  RemainingTime remaining_;
 };
 
 std::vector<std::string> SplitList(const std::string& text) {
@@ -140,7 +124,7 @@ void RunStudy(StudyArgs& args, CommandContext& context) {
   } else {
     std::cout << experiments::StudyTableMarkdown(rows, o);
   }
-  status.Note("study: done in " + Clock(wall) + " (this session); tables in " +
+  status.Note("study: done in " + FormatDuration(wall) + " (this session); tables in " +
               (o.out_dir / "table.{json,csv,md}").string());
 }
 

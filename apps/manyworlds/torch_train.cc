@@ -19,6 +19,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "apps/manyworlds/remaining_time.h"
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/algorithms.h"
@@ -31,22 +32,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using experiments::EvalResult;
-
-std::string Duration(double seconds) {
-  if (!(seconds >= 0) || seconds > 1e7) return "?";
-  const auto s = static_cast<int64_t>(seconds + 0.5);
-  char text[32];
-  if (s >= 3600) {
-    std::snprintf(text, sizeof(text), "%lldh%02lldm", static_cast<long long>(s / 3600),
-                  static_cast<long long>(s % 3600 / 60));
-  } else if (s >= 60) {
-    std::snprintf(text, sizeof(text), "%lldm%02llds", static_cast<long long>(s / 60),
-                  static_cast<long long>(s % 60));
-  } else {
-    std::snprintf(text, sizeof(text), "%llds", static_cast<long long>(s));
-  }
-  return text;
-}
 
 std::string Success(const std::optional<double>& rate) {
   return rate ? Fixed(*rate, 2) : "-";
@@ -104,10 +89,8 @@ class TrainStatus {
     last_ = now;
     const double fraction =
         p.total_steps > 0 ? static_cast<double>(p.step) / static_cast<double>(p.total_steps) : 1;
-    const double eta = p.env_steps_per_s > 0 && fraction > 0
-                           ? (session_elapsed(p) / std::max(fraction - start_fraction_, 1e-9)) *
-                                 (1.0 - fraction)
-                           : -1;
+    const double eta = remaining_.Update(static_cast<double>(p.step),
+                                         static_cast<double>(p.total_steps), now);
     std::string line = "train " + Human(static_cast<double>(p.step)) + "/" +
                        Human(static_cast<double>(p.total_steps)) + " steps " + Bar(fraction) + " " +
                        Human(p.env_steps_per_s) + " env steps/s " + Human(p.updates_per_s) +
@@ -116,7 +99,7 @@ class TrainStatus {
       line += p.last_eval->mean_success ? " success " + Fixed(*p.last_eval->mean_success, 2)
                                         : " return " + Fixed(p.last_eval->mean_return, 1);
     }
-    line += " ETA " + (eta >= 0 ? Duration(eta) : std::string("?"));
+    line += " ETA " + FormatDuration(eta);
     line_.Write(line);
   }
 
@@ -124,21 +107,19 @@ class TrainStatus {
   // what a run in the background (nohup, a cluster job) should leave in its log.
   void Note(const std::string& text) { line_.Note(text); }
 
-  void Start(const experiments::Trainer& trainer, int64_t total) {
-    session_start_ = Clock::now();
-    start_fraction_ = total > 0 ? static_cast<double>(trainer.step()) / total : 0;
+  // The time left is measured from here (after a resume, from the step it resumed at).
+  void Start(const experiments::Trainer& trainer) {
+    remaining_.Reset();
+    remaining_.Update(static_cast<double>(trainer.step()), 0);
   }
 
  private:
   using Clock = std::chrono::steady_clock;
-  double session_elapsed(const experiments::TrainProgress&) const {
-    return std::chrono::duration<double>(Clock::now() - session_start_).count();
-  }
 
   StatusLine line_;
   bool enabled_;
-  Clock::time_point last_{}, session_start_ = Clock::now();
-  double start_fraction_ = 0;
+  Clock::time_point last_{};
+  RemainingTime remaining_;
 };
 
 struct TrainArgs {
@@ -181,7 +162,7 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
   std::optional<TrainStatus> status_line(std::in_place, context.progress);
   TrainStatus& status = *status_line;
   const int64_t steps = trainer->config().experiment.steps_per_task;
-  status.Start(*trainer, steps);
+  status.Start(*trainer);
   for (const std::string& warning : trainer->warnings()) status.Note("warning: " + warning);
   if (trainer->step() == 0) {  // a resumed run must keep its thread count
     const std::string advice =
@@ -217,7 +198,7 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
     return;
   }
   std::cerr << "train: " << run_dir << ": " << summary.step << " steps per env, "
-            << summary.updates << " updates in " << Duration(summary.wall_s) << " ("
+            << summary.updates << " updates in " << FormatDuration(summary.wall_s) << " ("
             << Human(summary.env_steps_per_s) << " env steps/s, "
             << Human(summary.updates_per_s) << " updates/s this session)\n";
 }
