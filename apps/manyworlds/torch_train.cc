@@ -161,7 +161,6 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
   const std::string run_dir = trainer->run_dir().string();
   std::optional<TrainStatus> status_line(std::in_place, context.progress);
   TrainStatus& status = *status_line;
-  const int64_t steps = trainer->config().experiment.steps_per_task;
   status.Start(*trainer);
   for (const std::string& warning : trainer->warnings()) status.Note("warning: " + warning);
   if (trainer->step() == 0) {  // a resumed run must keep its thread count
