@@ -161,8 +161,10 @@ def cut_at(run, step):
 def label_runs(runs):
     """Colour by position; label = basename, parent/basename where basenames collide.
 
-    A history run takes the colour of the current run whose label starts with its name
-    (mt10_mtsac_v3 pairs with an earlier mt10_mtsac), else the next unused colour.
+    A history run takes the colour of the first current run whose label starts with its name
+    (mt10_mtsac_v3 pairs with an earlier mt10_mtsac), else with its name less the last
+    "_" part (mt10_mtppo_v3 pairs with an earlier mt10_mtppo_200k), else the next colour
+    after the current runs', round the palette.
     """
     current = [r for r in runs if "history" not in r]
     names = [os.path.basename(os.path.normpath(r["path"])) for r in current]
@@ -171,11 +173,24 @@ def label_runs(runs):
             parent = os.path.basename(os.path.dirname(os.path.abspath(run["path"])))
             name = f"{parent}/{name}"
         run["label"], run["color"] = name, COLORS[i % len(COLORS)]
-    spare = iter(COLORS[len(current):] * len(runs))
+
+    def pair_of(name):
+        stem = name.rsplit("_", 1)[0] + "_" if "_" in name else None
+        for prefix in (name, stem):
+            match = next((c for c in current if prefix and c["label"].startswith(prefix)), None)
+            if match:
+                return match
+        return None
+
+    spare = len(current)
     for run in runs:
         if "history" in run:
-            pair = next((c for c in current if c["label"].startswith(run["history"])), None)
-            run["color"] = pair["color"] if pair else next(spare)
+            pair = pair_of(run["history"])
+            if pair:
+                run["color"] = pair["color"]
+            else:
+                run["color"] = COLORS[spare % len(COLORS)]
+                spare += 1
 
 
 def parse_reference(text):

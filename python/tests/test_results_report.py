@@ -112,6 +112,25 @@ def test_history_draws_an_earlier_report_dashed_in_its_runs_colour(runs, tmp_pat
     assert colour(alpha_old) == colour(rerun_line) != colour(beta_old)
 
 
+def test_history_pairs_by_name_stem_and_unpaired_runs_get_distinct_colours(tmp_path):
+    one = [{"push": 0.1, "reach": 0.3}]
+    old_runs = [make_run(tmp_path / "old_report_src" / n, "mlp", one)
+                for n in ("gamma_200k", "delta", "epsilon")]
+    old = tmp_path / "old_report"
+    assert report(*old_runs, "--out", old).returncode == 0
+    rerun = make_run(tmp_path / "new" / "gamma_v3", "mlp", one)
+    out = tmp_path / "out"
+    r = report(rerun, "--out", out, "--history", old / "results.csv")
+    assert r.returncode == 0, r.stderr
+    svg = (out / "mean_success.svg").read_text()
+    lines = [line for line in svg.splitlines() if line.startswith("<polyline")]
+    colour = lambda line: line.split('stroke="')[1].split('"')[0]
+    rerun_line, gamma_old, delta_old, epsilon_old = lines
+    # gamma_200k has no run named like it, but its stem gamma_ pairs it with gamma_v3.
+    assert colour(gamma_old) == colour(rerun_line)
+    assert len({colour(rerun_line), colour(delta_old), colour(epsilon_old)}) == 3
+
+
 @pytest.mark.parametrize("extra, message", [
     (["--up-to", "0"], "--up-to must be a positive step count"),
     (["--up-to", "5000"], "no evaluation at or before --up-to 5,000"),
