@@ -175,9 +175,9 @@ def label_runs(runs):
         run["label"], run["color"] = name, COLORS[i % len(COLORS)]
 
     def pair_of(name):
-        stem = name.rsplit("_", 1)[0] + "_" if "_" in name else None
-        for prefix in (name, stem):
-            match = next((c for c in current if prefix and c["label"].startswith(prefix)), None)
+        prefixes = [name] + ([name.rsplit("_", 1)[0] + "_"] if "_" in name else [])
+        for prefix in prefixes:
+            match = next((c for c in current if c["label"].startswith(prefix)), None)
             if match:
                 return match
         return None
