@@ -244,6 +244,9 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
 void RunEval(const EvalArgs& args, const CommandContext& context) {
   const experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
   const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
+  if (const auto warning = experiments::EvaluationThreadWarning(checkpoint)) {
+    std::cerr << "warning: " << *warning << "\n";
+  }
   if (args.protocol == "meta-test" || args.protocol == "meta-train") {
     const bool test = args.protocol == "meta-test";
     if (args.episodes > 0) {

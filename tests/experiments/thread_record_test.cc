@@ -41,7 +41,16 @@ TEST(ThreadRecordTest, ResumeRefusesOtherBlasThreadCounts) {
   }
   const int blas = nn::CurrentThreads().blas_threads;
   if (blas < 1) GTEST_SKIP() << "the BLAS library is not OpenBLAS";
+  const fs::path checkpoint = LatestCheckpoint(dir);
+  EXPECT_FALSE(EvaluationThreadWarning(checkpoint).has_value());
   nn::SetThreads(1, blas == 1 ? 2 : 1);
+  // eval warns (and still evaluates); resume refuses
+  const auto warning = EvaluationThreadWarning(checkpoint);
+  ASSERT_TRUE(warning.has_value());
+  EXPECT_NE(warning->find("OPENBLAS_NUM_THREADS=" + std::to_string(blas) + " reproduces them"),
+            std::string::npos)
+      << *warning;
+  EXPECT_FALSE(EvaluationThreadWarning(dir / "no_such_checkpoint").has_value());
   try {
     Trainer::Resume(dir);
     ADD_FAILURE() << "resumed with another BLAS thread count";

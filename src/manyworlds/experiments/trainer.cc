@@ -102,6 +102,19 @@ std::optional<EvalResult> EvalFromJson(const nlohmann::json& json) {
   return r;
 }
 
+// "checkpoint 'D' was written with B BLAS thread(s) and T torch thread(s);
+// this process has ..." where the counts in a checkpoint's thread record
+// differ from this process's; nothing when they agree.
+std::optional<std::string> ThreadCountMismatch(const fs::path& dir, const nlohmann::json& saved,
+                                               const nn::ThreadInfo& now) {
+  const int64_t torch_then = saved.value("torch_intra_op", int64_t{-1});
+  const int64_t blas_then = saved.value("blas_threads", int64_t{-1});
+  if (torch_then == now.torch_intra_op && blas_then == now.blas_threads) return std::nullopt;
+  return "checkpoint '" + dir.string() + "' was written with " + std::to_string(blas_then) +
+         " BLAS thread(s) and " + std::to_string(torch_then) + " torch thread(s); this process has " +
+         std::to_string(now.blas_threads) + " and " + std::to_string(now.torch_intra_op);
+}
+
 }  // namespace
 
 nlohmann::json TrainSummary::ToJson() const {
@@ -117,6 +130,23 @@ nlohmann::json TrainSummary::ToJson() const {
 }
 
 fs::path LatestCheckpoint(const fs::path& run_dir) { return ChooseCheckpoint(run_dir).dir; }
+
+std::optional<std::string> EvaluationThreadWarning(const fs::path& checkpoint) {
+  try {
+    const nlohmann::json state = nlohmann::json::parse(ReadText(checkpoint / "state.json"));
+    if (!state.is_object() || !state.contains("threads") || !state["threads"].is_object()) {
+      return std::nullopt;  // older checkpoints
+    }
+    const nlohmann::json& saved = state["threads"];
+    const auto mismatch = ThreadCountMismatch(checkpoint, saved, nn::CurrentThreads());
+    if (!mismatch) return std::nullopt;
+    return *mismatch + ": the numbers may differ from the run's own evaluations in the "
+           "rounding, and sampled episodes then diverge; OPENBLAS_NUM_THREADS=" +
+           std::to_string(saved.value("blas_threads", int64_t{-1})) + " reproduces them";
+  } catch (const std::exception&) {
+    return std::nullopt;  // a damaged checkpoint is the evaluation's error to report
+  }
+}
 
 RunInfo RunInfo::Read(const fs::path& run_dir) {
   const RunPaths paths{run_dir};
@@ -428,15 +458,11 @@ void Trainer::Impl::CheckThreads(const fs::path& dir, const nlohmann::json& stat
   if (!state.contains("threads") || !state["threads"].is_object()) return;  // older checkpoints
   const nlohmann::json& saved = state["threads"];
   const nn::ThreadInfo now = nn::CurrentThreads();
-  const int64_t torch_then = saved.value("torch_intra_op", int64_t{-1});
-  const int64_t blas_then = saved.value("blas_threads", int64_t{-1});
-  if (torch_then != now.torch_intra_op || blas_then != now.blas_threads) {
-    throw ConfigError(
-        "checkpoint '" + dir.string() + "' was written with " + std::to_string(blas_then) +
-        " BLAS thread(s) and " + std::to_string(torch_then) + " torch thread(s); this process has " +
-        std::to_string(now.blas_threads) + " and " + std::to_string(now.torch_intra_op) +
-        ", so the resumed numbers would not match an uninterrupted run; resume with "
-        "OPENBLAS_NUM_THREADS=" + std::to_string(blas_then) + " (and the run's own config)");
+  if (const auto mismatch = ThreadCountMismatch(dir, saved, now)) {
+    throw ConfigError(*mismatch + ", so the resumed numbers would not match an uninterrupted run; "
+                      "resume with OPENBLAS_NUM_THREADS=" +
+                      std::to_string(saved.value("blas_threads", int64_t{-1})) +
+                      " (and the run's own config)");
   }
   const std::string core_then = saved.value("blas_core", std::string("unknown"));
   if (core_then != now.blas_core) {

@@ -43,6 +43,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -104,6 +105,13 @@ struct RunPaths {
 // The newest intact checkpoint of a run (ChooseCheckpoint without the
 // warnings). Throws ConfigError if the run has none, Error if none is intact.
 std::filesystem::path LatestCheckpoint(const std::filesystem::path& run_dir);
+
+// Where a checkpoint was written with other BLAS or torch thread counts than
+// this process has, a warning for `eval`: the products round differently, so
+// its numbers need not match the run's own evaluations (resume refuses such a
+// checkpoint instead). Nothing when the counts agree, for older checkpoints
+// without a thread record, and for unreadable ones (the evaluation says why).
+std::optional<std::string> EvaluationThreadWarning(const std::filesystem::path& checkpoint);
 
 // A resolved run read back from its directory: config and tasks. Throws
 // ConfigError if the directory is not a run.
