@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every benchmark behind docs/benchmarks.md on this machine and writes
-# the complete output to docs/benchmarks_<date>.log (or the file given as the
+# the complete output to bench/logs/benchmarks_<date>.log (or the file given as the
 # last argument). `--peers-only` runs only the peer comparisons (the last
 # section). Needs a Release build in build/ (scripts/test.sh or
 # scripts/main.sh makes one). The peer comparisons make their own virtual
@@ -13,7 +13,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 peers_only=0
 if [ "${1:-}" = "--peers-only" ]; then peers_only=1; shift; fi
-log=${1:-docs/benchmarks_$(date -u +%F).log}
+log=${1:-bench/logs/benchmarks_$(date -u +%F).log}
 B=build/manyworlds
 {
   echo "# $(date -u +%FT%TZ) $(git rev-parse --short HEAD)"

@@ -2,7 +2,7 @@
 """The measured effect of our models on Meta-World's task definitions: scripted-policy success
 and random-policy success and return, ours against the official package's, on every task.
 
-    python3 scripts/fidelity_effect.py --out docs/fidelity_effect_DATE   # ~35 min on a loaded VM
+    python3 scripts/fidelity_effect.py --out bench/logs/fidelity_effect_DATE  # ~35 min, loaded VM
 
 Ours: `manyworlds rollout --env mt50` (the first N variations of each task; our scripted
 policies, and uniform random actions). Theirs: python/tests/fidelity/metaworld_policy_stats.py

@@ -27,7 +27,7 @@ each run's own median, and the median over rounds of the per-round ratios):
 The best thread setting of each side is the one with the highest median; ratios are
 manyworlds' best over each peer's best, per round.
 
-    python3 bench/peers/learner_peers.py --rounds 3 --json docs/learner_peers.json
+    python3 bench/peers/learner_peers.py --rounds 3 --json bench/logs/learner_peers.json
 """
 import argparse
 import json
