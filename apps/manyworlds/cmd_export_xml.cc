@@ -1,5 +1,5 @@
 // manyworlds export-xml --env ID [--task-seed T] --out FILE: the complete
-// MJCF of one task variation, loadable by MuJoCo on its own.
+// MJCF of one task variation of a MuJoCo env, loadable by MuJoCo on its own.
 #include <iostream>
 
 #include "apps/manyworlds/cli_util.h"
@@ -30,7 +30,10 @@ void AddExportXmlCommand(CLI::App& app, CommandContext& /*context*/) {
   auto args = std::make_shared<ExportXmlArgs>();
   CLI::App* cmd = app.add_subcommand(
       "export-xml", "Write the complete MJCF of one task variation of a MuJoCo env");
-  cmd->add_option("--env", args->env, "env id: a manipulation task or benchmark")->required();
+  cmd->add_option("--env", args->env,
+                  "env id: a MuJoCo env (a manipulation task or benchmark, "
+                  "box-world-simple/-complex, half-cheetah-vel/-dir)")
+      ->required();
   cmd->add_option("--task-seed", args->task_seed, "task seed: which variation is drawn")
       ->capture_default_str()
       ->check(Unsigned());

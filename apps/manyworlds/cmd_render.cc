@@ -27,7 +27,7 @@ struct RenderArgs {
   std::string policy = "scripted";
   uint64_t seed = 0;
   uint64_t task_seed = 0;
-  std::string camera = "front";
+  std::string camera;  // empty: the scene's default (MujocoScene::default_camera)
   int width = 640;
   int height = 480;
   int64_t steps = -1;  // -1: .png 0, .mp4 the whole episode
@@ -54,8 +54,8 @@ std::string TaskLabel(const Env& env) {
 // first (which includes setting up OpenGL for the model, ~0.3 s).
 class FrameSource {
  public:
-  FrameSource(const Env& env, const RenderArgs& args)
-      : env_(env), camera_(args.camera), renderer_(args.width, args.height) {}
+  FrameSource(const Env& env, std::string camera, const RenderArgs& args)
+      : env_(env), camera_(std::move(camera)), renderer_(args.width, args.height) {}
 
   const std::vector<uint8_t>& Render() {
     const MujocoScene scene = ActiveMujocoScene(env_);
@@ -89,9 +89,11 @@ void RunRender(const RenderArgs& args, CommandContext& context) {
   }
 
   auto env = Make(args.env, ParseEnvOptions(args.options));
+  CheckMujocoEnv(*env, "rendering");  // before the policy: its error would hide this one
   auto policy = SeedEpisode(*env, args.policy, args.seed, args.task_seed, /*episode=*/0);
   env->ResetTaskState();
-  ActiveMujocoScene(*env);  // ConfigError for envs without a MuJoCo scene, before any work
+  const std::string camera =
+      args.camera.empty() ? std::string(ActiveMujocoScene(*env).default_camera) : args.camera;
 
   // steps to run: the whole episode (bounded like Rollout) unless given
   constexpr int64_t kUnlimitedCap = 100000;
@@ -101,7 +103,7 @@ void RunRender(const RenderArgs& args, CommandContext& context) {
 
   // a signal stops the loop; the writer's destructor removes the temporary file
   const StopSignals signals;
-  FrameSource frames(*env, args);
+  FrameSource frames(*env, camera, args);
   Observation obs = env->Reset();
   policy->BeginEpisode();
   // the first frame checks the camera and the GL setup before ffmpeg starts
@@ -141,7 +143,7 @@ void RunRender(const RenderArgs& args, CommandContext& context) {
   std::cout << args.out << "\n";
   std::cout << args.env << TaskLabel(*env) << ": " << writer.frames()
             << (writer.frames() == 1 ? " frame " : " frames ") << args.width << "x"
-            << args.height << " from camera " << args.camera << " after " << t << " steps"
+            << args.height << " from camera " << camera << " after " << t << " steps"
             << (video ? " at " + Fixed(args.fps, args.fps == std::floor(args.fps) ? 0 : 2) + " fps"
                    : std::string()) << ", policy "
             << args.policy << ", return " << Fixed(episode_return, 2) << ", success "
@@ -173,7 +175,8 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       "40) play an episode (500 steps, 251 frames) in real time, 6.25 s. Images are rendered "
       "with OSMesa (software OpenGL) and encoded by the ffmpeg program.");
   cmd->add_option("--env", args->env,
-                  "env id: a manipulation task or benchmark, or box-world-simple/-complex")
+                  "env id: a MuJoCo env (a manipulation task or benchmark, "
+                  "box-world-simple/-complex, half-cheetah-vel/-dir)")
       ->required();
   cmd->add_option("--policy", args->policy, "policy: scripted, or random")->capture_default_str();
   cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")
@@ -185,8 +188,8 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       ->check(Unsigned());
   cmd->add_option("--camera", args->camera,
                   "camera: front, top, side, gripper, or a camera named in the model (the "
-                  "box world's: top, perspective)")
-      ->capture_default_str();
+                  "box world's: top, perspective; the half-cheetah's: track). Default: track "
+                  "for the half-cheetah, front for the others");
   cmd->add_option("--width", args->width, "image width in pixels (even for .mp4)")
       ->capture_default_str()
       ->check(CLI::Range(1, 4096));

@@ -8,6 +8,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
@@ -18,6 +21,10 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/policy.h"
 #include "manyworlds/core/registry.h"
+#include "manyworlds/core/wrapper.h"
+#include "manyworlds/core/wrappers/time_limit.h"
+#include "manyworlds/sim/scene_source.h"
+#include "tests/support/scratch_dir.h"
 
 namespace manyworlds::boxworld {
 namespace {
@@ -429,7 +436,7 @@ TEST(BoxWorldEnvTest, TheScriptedPolicyReachesTargetsAndPushesBoxes) {
     c.task = task;
     BoxWorldEnv env(c);
     env.SeedTask(1);
-    std::unique_ptr<Policy> policy = MakeScriptedPolicy(env);
+    std::unique_ptr<Policy> policy = env.CreateScriptedPolicy();
     ASSERT_NE(policy, nullptr);
     int successes = 0;
     constexpr int kEpisodes = 10;
@@ -451,6 +458,29 @@ TEST(BoxWorldEnvTest, TheScriptedPolicyReachesTargetsAndPushesBoxes) {
       EXPECT_GE(successes, kEpisodes / 2);
     }
   }
+}
+
+// The MuJoCo scene and scripted policy capabilities are found behind
+// wrappers; the scene is the current world's, and its MJCF is WorldMjcf's.
+TEST(BoxWorldEnvTest, TheSceneAndScriptedPolicyAreFoundBehindWrappers) {
+  TimeLimit wrapped(std::make_unique<BoxWorldEnv>(Simple()), 50);
+  const auto& env = dynamic_cast<const BoxWorldEnv&>(wrapped.inner());
+  const auto* scene = FindThroughWrappers<sim::SceneSource>(wrapped);
+  ASSERT_EQ(scene, &env);
+  EXPECT_EQ(FindThroughWrappers<ScriptedPolicySource>(wrapped), &env);
+  // no world, no scene
+  EXPECT_EQ(scene->ActiveScene().model, nullptr);
+  const std::filesystem::path dir = test_support::ScratchDir("box_world_env", "scene", true);
+  EXPECT_THROW(scene->SaveSceneXml((dir / "none.xml").string()), EpisodeStateError);
+  wrapped.SeedTask(3);
+  wrapped.ResetTaskState();
+  EXPECT_EQ(scene->ActiveScene().model, env.model());
+  EXPECT_EQ(scene->ActiveScene().data, env.data());
+  EXPECT_EQ(scene->default_camera(), "front");
+  scene->SaveSceneXml((dir / "world.xml").string());
+  std::ifstream in(dir / "world.xml");
+  const std::string xml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(xml, WorldMjcf(env.world()).ToXml());
 }
 
 // 64 cubes of 10 cm (the most a world holds) in an 8 x 8 grid on a 6 m

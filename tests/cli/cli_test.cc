@@ -129,6 +129,7 @@ TEST(CliTest, BadInputIsAUsageError) {
         "rollout --env cartpole --episodes 0", "rollout --env cartpole --seed -1",
         "rollout --env cartpole --frobnicate", "rollout --env cartpole --policy expert",
         "export-xml --env cartpole --out x.xml", "export-xml --env reach",
+        "render --env cartpole --out x.png",
         "rollout", "frobnicate", "", "bench", "demo nonexistent.yaml",
         "demo --out x episdoes=3", "demo --out x episodes=ten", "demo --out x envs=[cartpol]"}) {
     const RunResult r = RunCli(args);
@@ -241,6 +242,46 @@ TEST(CliTest, ExportXmlWritesALoadableModel) {
   }
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
   EXPECT_TRUE(fs::is_directory(dir / "sub"));
+}
+
+// Every MuJoCo env renders and exports, the half-cheetah included (from its
+// tracking camera by default); other envs get one error line that says which
+// envs do.
+TEST(CliTest, RenderAndExportXmlWorkForTheHalfCheetah) {
+  const fs::path dir = ScratchDir();
+  const RunResult png = RunCli(
+      "render --env half-cheetah-vel --policy random --steps 5 --width 32 --height 24 --out c.png",
+      dir);
+  ASSERT_EQ(png.exit_code, 0) << png.err;
+  EXPECT_NE(png.out.find("1 frame 32x24 from camera track after 5 steps"), std::string::npos)
+      << png.out;
+  EXPECT_EQ(Slurp(dir / "c.png").substr(1, 3), "PNG");
+  const RunResult mp4 = RunCli(
+      "render --env half-cheetah-dir --policy random --steps 6 --every 3 --width 32 --height 24 "
+      "--out c.mp4",
+      dir);
+  ASSERT_EQ(mp4.exit_code, 0) << mp4.err;
+  EXPECT_NE(mp4.out.find("3 frames 32x24 from camera track after 6 steps"), std::string::npos)
+      << mp4.out;
+  EXPECT_GT(fs::file_size(dir / "c.mp4"), 0u);
+
+  const RunResult xml = RunCli("export-xml --env half-cheetah-vel --out h.xml", dir);
+  ASSERT_EQ(xml.exit_code, 0) << xml.err;
+  const std::string model = Slurp(dir / "h.xml");
+  EXPECT_NE(model.find("<mujoco"), std::string::npos);
+  EXPECT_NE(model.find("name=\"torso\""), std::string::npos);
+
+  for (const char* args : {"render --env cartpole --out x.png",
+                           "render --env cartpole --policy random --out x.png",
+                           "export-xml --env cartpole --out x.xml"}) {
+    const RunResult refused = RunCli(args, dir);
+    EXPECT_EQ(refused.exit_code, 2) << args;
+    EXPECT_TRUE(IsOneErrorLine(refused.err)) << refused.err;
+    EXPECT_NE(refused.err.find("env 'cartpole' has no MuJoCo scene"), std::string::npos)
+        << refused.err;
+    EXPECT_NE(refused.err.find("half-cheetah"), std::string::npos) << refused.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
 
 TEST(CliTest, CheckEnvPassesOnCartpole) {

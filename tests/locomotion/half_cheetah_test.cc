@@ -6,11 +6,22 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
 #include <vector>
 
 #include "manyworlds/core/env_checker.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/policy.h"
 #include "manyworlds/core/rng.h"
+#include "manyworlds/core/wrapper.h"
+#include "manyworlds/core/wrappers/time_limit.h"
+#include "manyworlds/sim/scene_source.h"
+#include "tests/support/scratch_dir.h"
+#ifdef MANYWORLDS_HAS_RENDER
+#include "manyworlds/sim/render.h"
+#endif
 
 namespace manyworlds::locomotion {
 namespace {
@@ -88,6 +99,59 @@ TEST(HalfCheetahTest, TaskStatesAreCheckedAndHiddenByDefault) {
   EXPECT_GT(forward, 70);
   EXPECT_LT(forward, 130);
 }
+
+// The MuJoCo scene capability, found behind a wrapper: the env's own model
+// and data, the camera "track", and an MJCF that MuJoCo loads on its own into
+// a model with the same dynamics.
+TEST(HalfCheetahTest, TheSceneIsFoundBehindWrappersAndItsXmlLoads) {
+  TimeLimit wrapped(std::make_unique<HalfCheetahEnv>(Vel()), 20);
+  const auto& env = dynamic_cast<const HalfCheetahEnv&>(wrapped.inner());
+  const auto* source = FindThroughWrappers<sim::SceneSource>(wrapped);
+  ASSERT_EQ(source, &env);
+  EXPECT_EQ(source->ActiveScene().model, env.model());
+  EXPECT_EQ(source->ActiveScene().data, env.data());
+  EXPECT_EQ(source->default_camera(), "track");
+  EXPECT_EQ(FindThroughWrappers<ScriptedPolicySource>(wrapped), nullptr);  // it has none
+
+  const std::filesystem::path path =
+      test_support::ScratchDir("half_cheetah", "xml", /*create=*/true) / "half_cheetah.xml";
+  source->SaveSceneXml(path.string());
+  const sim::ModelPtr loaded = sim::LoadModelFromFile(path.string());
+  const mjModel* own = env.model();
+  EXPECT_EQ(loaded->nq, own->nq);
+  EXPECT_EQ(loaded->nu, own->nu);
+  EXPECT_EQ(loaded->nbody, own->nbody);
+  EXPECT_EQ(loaded->ncam, own->ncam);
+  const sim::DataPtr a = sim::MakeData(loaded.get());
+  const sim::DataPtr b = sim::MakeData(own);
+  for (int t = 0; t < 50; ++t) {
+    for (int i = 0; i < own->nu; ++i) a->ctrl[i] = b->ctrl[i] = std::sin(0.3 * t + i);
+    mj_step(loaded.get(), a.get());
+    mj_step(own, b.get());
+  }
+  for (int i = 0; i < own->nq; ++i) EXPECT_EQ(a->qpos[i], b->qpos[i]) << i;
+}
+
+#ifdef MANYWORLDS_HAS_RENDER
+// The camera "track" sees the cheetah: its warm body colour (red above
+// blue) fills part of the image, the cool floor (blue above red) another.
+TEST(HalfCheetahTest, RendersFromItsTrackingCamera) {
+  HalfCheetahEnv env(Dir());
+  env.Reset();
+  for (int t = 0; t < 20; ++t) env.Step(std::vector<float>{1, -1, 1, -1, 1, -1});
+  const sim::Scene scene = env.ActiveScene();
+  constexpr int kW = 64, kH = 48;
+  sim::Renderer renderer(kW, kH);
+  const std::vector<uint8_t> rgb = renderer.Render(scene.model, scene.data, env.default_camera());
+  int body = 0, floor = 0;
+  for (size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    body += rgb[i] > rgb[i + 2] + 30;
+    floor += rgb[i + 2] > rgb[i] + 10;
+  }
+  EXPECT_GT(body, kW * kH / 50) << "body pixels";
+  EXPECT_GT(floor, kW * kH / 10) << "floor pixels";
+}
+#endif  // MANYWORLDS_HAS_RENDER
 
 }  // namespace
 }  // namespace manyworlds::locomotion

@@ -5,7 +5,9 @@
 #include <limits>
 #include <string>
 
+#include "manyworlds/boxworld/scripted_policy.h"
 #include "manyworlds/boxworld/world_model.h"
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/sim/mujoco_error.h"
 #include "manyworlds/sim/warnings.h"
@@ -159,6 +161,22 @@ void BoxWorldEnv::DoSetTaskState(const TaskState& state) {
   const float target[2] = {config_.hide_target ? 0.0f : static_cast<float>(world_.target[0]),
                            config_.hide_target ? 0.0f : static_cast<float>(world_.target[1])};
   SetTaskObs(std::span<const float>(target, 2));
+}
+
+sim::Scene BoxWorldEnv::ActiveScene() const {
+  return has_task() ? sim::Scene{model(), data()} : sim::Scene{};
+}
+
+void BoxWorldEnv::SaveSceneXml(const std::string& path) const {
+  if (!has_task()) {
+    throw EpisodeStateError("env '" + id() + "': SaveSceneXml needs a task; call SetTaskState "
+                            "or ResetTaskState first");
+  }
+  AtomicWriteFile(path, WorldMjcf(world_).ToXml());
+}
+
+std::unique_ptr<Policy> BoxWorldEnv::CreateScriptedPolicy() const {
+  return MakeScriptedPolicy(*this);
 }
 
 void BoxWorldEnv::CacheIds() {

@@ -47,11 +47,15 @@
 #define MANYWORLDS_BOXWORLD_BOX_WORLD_ENV_H_
 
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "manyworlds/boxworld/world.h"
 #include "manyworlds/core/env.h"
+#include "manyworlds/core/policy.h"
 #include "manyworlds/sim/model.h"
+#include "manyworlds/sim/scene_source.h"
 
 namespace manyworlds::boxworld {
 
@@ -63,7 +67,7 @@ inline constexpr double kSuccessBonus = 100.0;
 inline constexpr int kAgentObs = 8;
 inline constexpr int kBoxObs = 9;
 
-class BoxWorldEnv : public Env {
+class BoxWorldEnv : public Env, public sim::SceneSource, public ScriptedPolicySource {
  public:
   struct Config {
     BoxTask task = BoxTask::kSimple;
@@ -97,6 +101,13 @@ class BoxWorldEnv : public Env {
   int64_t models_built() const { return models_built_; }
   // Whether box i has been delivered in the running episode.
   bool delivered(size_t i) const { return delivered_[i] != 0; }
+
+  // SceneSource: the current world's model and data (none before the first
+  // task state), and its MJCF (WorldMjcf).
+  sim::Scene ActiveScene() const override;
+  void SaveSceneXml(const std::string& path) const override;
+  // ScriptedPolicySource: scripted_policy.h's policy.
+  std::unique_ptr<Policy> CreateScriptedPolicy() const override;
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;

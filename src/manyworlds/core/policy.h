@@ -26,6 +26,16 @@ class Policy {
                    std::span<float> action) = 0;
 };
 
+// A capability of envs that have a scripted (expert) policy: the manipulation
+// tasks and benchmarks, the box world. Found behind wrappers with
+// FindThroughWrappers<ScriptedPolicySource>(env).
+class ScriptedPolicySource {
+ public:
+  virtual ~ScriptedPolicySource() = default;
+  // A new scripted policy acting in this env; the env must outlive it.
+  virtual std::unique_ptr<Policy> CreateScriptedPolicy() const = 0;
+};
+
 // Uniform samples from the action space, from its own seeded generator.
 class RandomPolicy : public Policy {
  public:

@@ -44,6 +44,20 @@ class Wrapper : public Env {
   std::vector<float> inner_task_obs_;
 };
 
+// The first env from `env` inward, through wrappers, that is a `T`: an env
+// class, or a capability an env implements besides Env (ScriptedPolicySource,
+// sim::SceneSource). Null if there is none. The one walk through wrappers, so
+// that callers need no casts of their own.
+template <typename T>
+const T* FindThroughWrappers(const Env& env) {
+  for (const Env* e = &env;;) {
+    if (const auto* found = dynamic_cast<const T*>(e)) return found;
+    const auto* wrapper = dynamic_cast<const Wrapper*>(e);
+    if (wrapper == nullptr) return nullptr;
+    e = &wrapper->inner();
+  }
+}
+
 }  // namespace manyworlds
 
 #endif  // MANYWORLDS_CORE_WRAPPER_H_

@@ -2,16 +2,17 @@
 
 #include "manyworlds/classic/classic.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/wrapper.h"
+#ifdef MANYWORLDS_HAS_SIM
+#include "manyworlds/sim/scene_source.h"
+#endif
 #ifdef MANYWORLDS_HAS_BOXWORLD
 #include "manyworlds/boxworld/boxworld.h"
-#include "manyworlds/boxworld/world_model.h"
-#include "manyworlds/core/atomic_file.h"
 #endif
 #ifdef MANYWORLDS_HAS_LOCOMOTION
 #include "manyworlds/locomotion/locomotion.h"
 #endif
 #ifdef MANYWORLDS_HAS_MANIPULATION
-#include "manyworlds/manipulation/benchmark.h"
 #include "manyworlds/manipulation/manipulation.h"
 #endif
 
@@ -40,52 +41,66 @@ std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options) {
   return DefaultRegistry().Make(id, options);
 }
 
-std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
-#ifdef MANYWORLDS_HAS_BOXWORLD
-  if (std::unique_ptr<Policy> policy = boxworld::MakeScriptedPolicy(env)) return policy;
-#endif
-#ifdef MANYWORLDS_HAS_MANIPULATION
-  return manipulation::MakeScriptedPolicyFor(env);
+namespace {
+
+// What the scripted-policy, render and export errors allow, in one place.
+constexpr char kScriptedEnvs[] = "the manipulation tasks and benchmarks and box-world-*";
+#ifdef MANYWORLDS_HAS_SIM
+constexpr char kMujocoEnvs[] =
+    "the MuJoCo envs (manipulation tasks and benchmarks, box-world-*, half-cheetah-*)";
 #else
-  throw ConfigError("no scripted policy for env '" + env.id() +
-                    "': this build has no manipulation suite (MuJoCo was not found)");
+constexpr char kMujocoEnvs[] = "the MuJoCo envs, which this build lacks (MuJoCo was not found)";
 #endif
+
+// `use` is "rendering" or "export-xml".
+ConfigError NoSceneError(const Env& env, const std::string& use) {
+  return ConfigError("env '" + env.id() + "' has no MuJoCo scene; " + use + " works for " +
+                     kMujocoEnvs);
 }
 
+#ifdef MANYWORLDS_HAS_SIM
+// The env's MuJoCo scene capability, found behind wrappers.
+const sim::SceneSource& SceneSourceOf(const Env& env, const std::string& use) {
+  const auto* source = FindThroughWrappers<sim::SceneSource>(env);
+  if (source == nullptr) throw NoSceneError(env, use);
+  return *source;
+}
+#endif
+
+}  // namespace
+
+std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
+  if (const auto* source = FindThroughWrappers<ScriptedPolicySource>(env)) {
+    return source->CreateScriptedPolicy();
+  }
+  throw ConfigError("no scripted policy for env '" + env.id() + "': scripted policies exist for " +
+                    kScriptedEnvs);
+}
+
+#ifdef MANYWORLDS_HAS_SIM
+
+void CheckMujocoEnv(const Env& env, const std::string& use) { SceneSourceOf(env, use); }
+
 void SaveTaskXml(const Env& env, const std::string& path) {
-#ifdef MANYWORLDS_HAS_BOXWORLD
-  if (const boxworld::BoxWorldEnv* box = boxworld::FindBoxWorld(env); box && box->has_task()) {
-    AtomicWriteFile(path, boxworld::WorldMjcf(box->world()).ToXml());
-    return;
-  }
-#endif
-#ifdef MANYWORLDS_HAS_MANIPULATION
-  if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
-    task->SaveVariationXml(path);
-    return;
-  }
-#else
-  (void)path;
-#endif
-  throw ConfigError("env '" + env.id() +
-                    "' has no MuJoCo model to export; export-xml works for the manipulation "
-                    "tasks, benchmarks and the box world");
+  SceneSourceOf(env, "export-xml").SaveSceneXml(path);
 }
 
 MujocoScene ActiveMujocoScene(const Env& env) {
-#ifdef MANYWORLDS_HAS_BOXWORLD
-  if (const boxworld::BoxWorldEnv* box = boxworld::FindBoxWorld(env); box && box->has_task()) {
-    return {box->model(), box->data()};
+  const sim::SceneSource& source = SceneSourceOf(env, "rendering");
+  const sim::Scene scene = source.ActiveScene();
+  if (scene.model == nullptr) {
+    throw ConfigError("env '" + env.id() + "' has no task yet, hence no scene; call "
+                      "ResetTaskState or SetTaskState first");
   }
-#endif
-#ifdef MANYWORLDS_HAS_MANIPULATION
-  if (const manipulation::SawyerTask* task = manipulation::ActiveSawyerTask(env)) {
-    return {task->model(), task->data()};
-  }
-#endif
-  throw ConfigError("env '" + env.id() +
-                    "' has no MuJoCo scene; rendering works for the manipulation tasks, benchmarks "
-                    "and the box world");
+  return {scene.model, scene.data, source.default_camera()};
 }
+
+#else  // !MANYWORLDS_HAS_SIM: no env has a scene
+
+void CheckMujocoEnv(const Env& env, const std::string& use) { throw NoSceneError(env, use); }
+void SaveTaskXml(const Env& env, const std::string&) { throw NoSceneError(env, "export-xml"); }
+MujocoScene ActiveMujocoScene(const Env& env) { throw NoSceneError(env, "rendering"); }
+
+#endif  // MANYWORLDS_HAS_SIM
 
 }  // namespace manyworlds

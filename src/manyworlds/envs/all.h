@@ -31,27 +31,34 @@ const Registry& DefaultRegistry();
 // (suggesting the nearest ones) or a bad option.
 std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options = {});
 
-// The scripted (expert) policy of an env that has one: the manipulation
-// tasks and benchmarks and the box world, also behind wrappers. `env` must
-// outlive it. Throws ConfigError for other envs.
+// The scripted (expert) policy of an env that has one (ScriptedPolicySource:
+// the manipulation tasks and benchmarks and the box world), also behind
+// wrappers. `env` must outlive it. Throws ConfigError for other envs.
 std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env);
 
-// Writes the complete MJCF of the current task (variation) of a MuJoCo env
-// (a manipulation task or benchmark, or the box world's current world, also
-// behind wrappers) to `path`. Throws ConfigError for other envs.
+// Writes the complete MJCF of the current task of a MuJoCo env (one that is
+// a sim::SceneSource: a manipulation task or benchmark, the box world, the
+// half-cheetah; also behind wrappers) to `path`. Throws ConfigError for other
+// envs, EpisodeStateError before a benchmark or box world has a task.
 void SaveTaskXml(const Env& env, const std::string& path);
 
-// The MuJoCo model and data that simulate the current task of `env` (a
-// manipulation task or benchmark, or the box world, also behind wrappers),
-// for rendering.
+// The MuJoCo model and data that simulate the current task of a MuJoCo env
+// (as for SaveTaskXml), for rendering, and the camera to render it from
+// unless told otherwise.
 // Both belong to the env: valid until its next SetTaskState, and the data
 // changes with every step. Throws ConfigError for other envs and before a
-// benchmark has a task.
+// benchmark or box world has a task.
 struct MujocoScene {
   const mjModel_* model = nullptr;
   const mjData_* data = nullptr;
+  std::string_view default_camera = "front";
 };
 MujocoScene ActiveMujocoScene(const Env& env);
+
+// Throws ActiveMujocoScene's ConfigError, saying what `use` ("rendering")
+// works for, unless `env` is a MuJoCo env; a benchmark or box world passes
+// before it has a task too.
+void CheckMujocoEnv(const Env& env, const std::string& use);
 
 }  // namespace manyworlds
 

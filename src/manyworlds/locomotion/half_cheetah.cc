@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/sim/warnings.h"
 
@@ -83,6 +84,10 @@ constexpr char kModelXml[] = R"(<mujoco model="manyworlds_half_cheetah">
 const std::string& HalfCheetahEnv::ModelXml() {
   static const std::string xml = kModelXml;
   return xml;
+}
+
+void HalfCheetahEnv::SaveSceneXml(const std::string& path) const {
+  AtomicWriteFile(path, ModelXml());
 }
 
 EnvSpec HalfCheetahEnv::MakeSpec(const Config& config) {

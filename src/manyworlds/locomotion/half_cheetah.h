@@ -32,12 +32,13 @@
 
 #include "manyworlds/core/env.h"
 #include "manyworlds/sim/model.h"
+#include "manyworlds/sim/scene_source.h"
 
 namespace manyworlds::locomotion {
 
 enum class CheetahTask { kVelocity, kDirection };
 
-class HalfCheetahEnv : public Env {
+class HalfCheetahEnv : public Env, public sim::SceneSource {
  public:
   struct Config {
     CheetahTask task = CheetahTask::kVelocity;
@@ -54,6 +55,13 @@ class HalfCheetahEnv : public Env {
   const mjModel* model() const { return model_.get(); }
   const mjData* data() const { return data_.get(); }
   double goal() const { return goal_; }
+
+  // SceneSource: the one model (every task shares it) and its data; its
+  // MJCF is ModelXml(). Rendered by default from the model's camera "track",
+  // which follows the torso from the side.
+  sim::Scene ActiveScene() const override { return {model(), data()}; }
+  void SaveSceneXml(const std::string& path) const override;
+  std::string_view default_camera() const override { return "track"; }
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;

@@ -330,37 +330,41 @@ class PrivilegedScriptedPolicy : public Policy {
 
 }  // namespace
 
-const SawyerTask* ActiveSawyerTask(const Env& env) {
-  const Env* e = &env;
-  while (true) {
-    if (const auto* bench = dynamic_cast<const Benchmark*>(e)) {
-      return bench->active_task() < 0 ? nullptr : &bench->member(bench->active_task());
-    }
-    if (const auto* task = dynamic_cast<const SawyerTask*>(e)) return task;
-    const auto* wrapper = dynamic_cast<const Wrapper*>(e);
-    if (wrapper == nullptr) return nullptr;
-    e = &wrapper->inner();
+std::unique_ptr<Policy> SawyerTask::CreateScriptedPolicy() const {
+  return std::make_unique<PrivilegedScriptedPolicy>([this] { return this; },
+                                                    std::vector<std::string>{id()});
+}
+
+std::unique_ptr<Policy> Benchmark::CreateScriptedPolicy() const {
+  return std::make_unique<PrivilegedScriptedPolicy>(
+      [this]() -> const SawyerTask* {
+        return active_task_ < 0 ? nullptr : &Member(active_task_);
+      },
+      config_.tasks);
+}
+
+sim::Scene Benchmark::ActiveScene() const {
+  return active_task_ < 0 ? sim::Scene{} : Member(active_task_).ActiveScene();
+}
+
+void Benchmark::SaveSceneXml(const std::string& path) const {
+  if (active_task_ < 0) {
+    throw EpisodeStateError("env '" + id() + "': SaveSceneXml needs a task; call SetTaskState "
+                            "or ResetTaskState first");
   }
+  Member(active_task_).SaveVariationXml(path);
+}
+
+const SawyerTask* ActiveSawyerTask(const Env& env) {
+  if (const auto* bench = FindThroughWrappers<Benchmark>(env)) {
+    return bench->active_task() < 0 ? nullptr : &bench->member(bench->active_task());
+  }
+  return FindThroughWrappers<SawyerTask>(env);
 }
 
 std::unique_ptr<Policy> MakeScriptedPolicyFor(const Env& env) {
-  const Env* e = &env;
-  while (true) {
-    if (const auto* bench = dynamic_cast<const Benchmark*>(e)) {
-      return std::make_unique<PrivilegedScriptedPolicy>(
-          [bench]() -> const SawyerTask* {
-            return bench->active_task() < 0 ? nullptr : &bench->member(bench->active_task());
-          },
-          bench->config().tasks);
-    }
-    if (const auto* task = dynamic_cast<const SawyerTask*>(e)) {
-      return std::make_unique<PrivilegedScriptedPolicy>([task] { return task; },
-                                                        std::vector<std::string>{task->id()});
-    }
-    const auto* wrapper = dynamic_cast<const Wrapper*>(e);
-    if (wrapper == nullptr) break;
-    e = &wrapper->inner();
-  }
+  if (const auto* bench = FindThroughWrappers<Benchmark>(env)) return bench->CreateScriptedPolicy();
+  if (const auto* task = FindThroughWrappers<SawyerTask>(env)) return task->CreateScriptedPolicy();
   throw ConfigError("no scripted policy for env '" + env.id() +
                     "': scripted policies exist for the manipulation tasks and benchmarks");
 }

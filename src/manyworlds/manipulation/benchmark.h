@@ -74,7 +74,7 @@ std::vector<std::string> Mt10Tasks();
 std::vector<std::string> Ml10TrainTasks();
 std::vector<std::string> Ml10TestTasks();
 
-class Benchmark : public Env {
+class Benchmark : public Env, public sim::SceneSource, public ScriptedPolicySource {
  public:
   // Throws ConfigError for an unknown task id, no tasks or a bad count.
   explicit Benchmark(BenchmarkConfig config);
@@ -94,6 +94,14 @@ class Benchmark : public Env {
   std::vector<TaskGroup> EvaluationTasks() const override;
 
   void SetMaxEpisodeSteps(int64_t max_episode_steps) override;
+
+  // SceneSource: the active member's scene (none before the first task
+  // state) and MJCF (EpisodeStateError before the first task state).
+  sim::Scene ActiveScene() const override;
+  void SaveSceneXml(const std::string& path) const override;
+  // ScriptedPolicySource: the members' scripted policies, each used while
+  // its task is active; privileged like SawyerTask's.
+  std::unique_ptr<Policy> CreateScriptedPolicy() const override;
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;
@@ -130,9 +138,9 @@ void RegisterBenchmarks(Registry& registry);
 const SawyerTask* ActiveSawyerTask(const Env& env);
 
 // The scripted policy for a Sawyer task, a benchmark, or either behind
-// wrappers that keep the first 39 observation values. It is privileged: it
-// reads the true goal from the env, so it also acts when the goal is hidden.
-// `env` must outlive the policy. Throws ConfigError for other envs.
+// wrappers that keep the first 39 observation values (CreateScriptedPolicy
+// of the one found). `env` must outlive the policy. Throws ConfigError for
+// other envs.
 std::unique_ptr<Policy> MakeScriptedPolicyFor(const Env& env);
 
 }  // namespace manyworlds::manipulation

@@ -39,13 +39,16 @@
 #define MANYWORLDS_MANIPULATION_SAWYER_TASK_H_
 
 #include <array>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "manyworlds/core/env.h"
+#include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/reward_utils.h"
 #include "manyworlds/sim/model.h"
+#include "manyworlds/sim/scene_source.h"
 #include "manyworlds/sim/state.h"
 
 namespace manyworlds::manipulation {
@@ -185,7 +188,7 @@ struct RewardTerms {
   double obj_to_target = 0;
 };
 
-class SawyerTask : public Env {
+class SawyerTask : public Env, public sim::SceneSource, public ScriptedPolicySource {
  public:
   const mjModel* model() const { return model_.get(); }
   const mjData* data() const { return data_.get(); }
@@ -208,6 +211,15 @@ class SawyerTask : public Env {
   // before a task is set, sim::MujocoError if writing fails.
   void SaveVariationXml(const std::string& path) const;
   const std::string& last_sim_warning() const { return last_sim_warning_; }
+
+  // SceneSource: the task's own model and data; the MJCF is
+  // SaveVariationXml's.
+  sim::Scene ActiveScene() const override { return {model(), data()}; }
+  void SaveSceneXml(const std::string& path) const override { SaveVariationXml(path); }
+  // ScriptedPolicySource: the task's scripted policy, privileged (it reads
+  // the true goal, so it also acts when the goal is hidden). Defined in
+  // benchmark.cc, next to the policy it shares with Benchmark.
+  std::unique_ptr<Policy> CreateScriptedPolicy() const override;
 
  protected:
   SawyerTask(SawyerTaskConfig config, SawyerOptions options);

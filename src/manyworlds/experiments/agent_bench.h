@@ -1,0 +1,55 @@
+// Agent update benchmarks (`manyworlds bench agent`): one function per
+// algorithm, named by its registry row (algorithms.cc), timing the
+// algorithm's update on random data of the given sizes.
+#ifndef MANYWORLDS_EXPERIMENTS_AGENT_BENCH_H_
+#define MANYWORLDS_EXPERIMENTS_AGENT_BENCH_H_
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace manyworlds::experiments {
+
+// The sizes and settings of an agent benchmark (the flags of `bench agent`;
+// each algorithm reads the ones its --help names).
+struct AgentBenchSizes {
+  int batch = 128;
+  int minibatch = 1000;
+  int hidden = 400;
+  int layers = 3;
+  int obs_dim = 39;
+  int action_dim = 4;
+  int tasks = 1;
+  int trial_length = 200;  // rl2, maml: steps per trial
+  std::string architecture = "mlp";
+  bool pcgrad = false;
+  bool disentangled_alpha = false;
+  int updates = 20;
+  int repeats = 5;
+  int shards = 1;
+  int update_threads = 0;  // 0: one per shard, at most one per core
+  int torch_threads = 0;   // 0: the learner's default (nn::ConfigureTorchThreads)
+  int blas_threads = 0;    // 0: the BLAS default (OPENBLAS_NUM_THREADS or one per core)
+  uint64_t seed = 0;
+};
+
+struct AgentBenchResult {
+  nlohmann::json json;  // sizes, unit, median rate, every repeat, threads
+  std::string summary;  // human lines, ending in a newline
+};
+
+// (registry name, sizes) -> result.
+using AgentBench = AgentBenchResult (*)(const std::string& algo, const AgentBenchSizes& sizes);
+
+AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchPpoUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchTrpoUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchTePpoUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+
+}  // namespace manyworlds::experiments
+
+#endif  // MANYWORLDS_EXPERIMENTS_AGENT_BENCH_H_

@@ -1,0 +1,77 @@
+#include "manyworlds/experiments/checkpoint_evaluation.h"
+
+#include <memory>
+#include <string>
+
+#include "manyworlds/core/error.h"
+#include "manyworlds/core/rng.h"
+#include "manyworlds/envs/all.h"
+#include "manyworlds/experiments/algorithm.h"
+#include "manyworlds/experiments/run_dir.h"
+
+namespace manyworlds::experiments {
+namespace {
+
+namespace fs = std::filesystem;
+
+MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
+                             const MetaTestConfig& config, uint64_t seed, bool on_training_tasks) {
+  if (!run.eval_tasks) {
+    throw ConfigError(std::string(on_training_tasks ? "meta-train" : "meta-test") +
+                      " needs held-out tasks, and this run has none: train with an "
+                      "eval_env section (e.g. eval_env: {options: {split: test}} for ML1/ML10, "
+                      "or eval_env: {task_seed: 1} for a sampled task distribution)");
+  }
+  const Registry& registry = DefaultRegistry();
+  const EnvFacts facts = InspectEnvs(run.tasks, registry);
+  const EnvFacts eval_facts = CheckEvalTasks(*run.eval_tasks, facts, registry);
+  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
+  algorithm->LoadPolicy(checkpoint);
+  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config,
+                            seed, run.config.experiment.num_threads,
+                            on_training_tasks ? &facts : &eval_facts);
+  MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
+  result.step = CheckpointStep(checkpoint);
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
+                                  std::optional<uint64_t> seed) {
+  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
+                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
+                       /*on_training_tasks=*/false)
+      .ToJson();
+}
+
+nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const fs::path& checkpoint,
+                                   std::optional<uint64_t> seed) {
+  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
+                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTrainSeedStream),
+                       /*on_training_tasks=*/true)
+      .ToJson();
+}
+
+MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& checkpoint,
+                                          int64_t trials, uint64_t seed) {
+  MetaTestConfig config = run.config.meta_test;
+  config.trials_per_task = trials;
+  return RunMetaTestOn(run, checkpoint, config, seed, /*on_training_tasks=*/false);
+}
+
+EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes,
+                              std::optional<uint64_t> seed) {
+  const Registry& registry = DefaultRegistry();
+  const EnvFacts facts = InspectEnvs(run.tasks, registry);
+  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
+  algorithm->LoadPolicy(checkpoint);
+  Evaluator evaluator(run.tasks, registry, episodes,
+                      seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
+                      run.config.experiment.num_threads, &facts);
+  EvalResult result = evaluator.Run(algorithm->actor());
+  result.step = CheckpointStep(checkpoint);
+  return result;
+}
+
+}  // namespace manyworlds::experiments
