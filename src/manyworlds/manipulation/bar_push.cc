@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/rotary/rotary.h"
+#include "manyworlds/manipulation/bar_push.h"
 
 #include <cmath>
 

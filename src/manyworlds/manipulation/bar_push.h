@@ -3,8 +3,8 @@
 // "v2"). The fixtures are ArticulatedTask fixtures with a hinge about z;
 // shared here is the scripted move that turns them: push a bar that points
 // out from the axis sideways with the closed gripper, following it round.
-#ifndef MANYWORLDS_MANIPULATION_ROTARY_ROTARY_H_
-#define MANYWORLDS_MANIPULATION_ROTARY_ROTARY_H_
+#ifndef MANYWORLDS_MANIPULATION_BAR_PUSH_H_
+#define MANYWORLDS_MANIPULATION_BAR_PUSH_H_
 
 #include <span>
 
@@ -39,4 +39,4 @@ void PushBarAround(const SawyerObs& obs, const BarPush& push, std::span<float> a
 
 }  // namespace manyworlds::manipulation::rotary
 
-#endif  // MANYWORLDS_MANIPULATION_ROTARY_ROTARY_H_
+#endif  // MANYWORLDS_MANIPULATION_BAR_PUSH_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/slide/push_from_behind.h"
+#include "manyworlds/manipulation/push_from_behind.h"
 
 #include <cmath>
 

@@ -2,8 +2,8 @@
 // come down behind the object (on the side away from the target), then
 // push it toward the target. Stateless: every step decides from the
 // observation.
-#ifndef MANYWORLDS_MANIPULATION_SLIDE_PUSH_FROM_BEHIND_H_
-#define MANYWORLDS_MANIPULATION_SLIDE_PUSH_FROM_BEHIND_H_
+#ifndef MANYWORLDS_MANIPULATION_PUSH_FROM_BEHIND_H_
+#define MANYWORLDS_MANIPULATION_PUSH_FROM_BEHIND_H_
 
 #include <span>
 
@@ -23,4 +23,4 @@ void PushFromBehind(const SawyerObs& obs, const Vec3& object, const Vec3& target
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SLIDE_PUSH_FROM_BEHIND_H_
+#endif  // MANYWORLDS_MANIPULATION_PUSH_FROM_BEHIND_H_

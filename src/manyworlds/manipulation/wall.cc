@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/wall/wall.h"
+#include "manyworlds/manipulation/wall.h"
 
 #include <algorithm>
 

@@ -3,8 +3,8 @@
 // Ranges from v3: object (-0.05, 0.6)-(0.05, 0.65), goals (-0.05, 0.85)-
 // (0.05, 0.9) in xy; the wall spans x in [-0.02, 0.22], y in [0.74, 0.76],
 // z up to 0.12 (assets/*_wall.xml).
-#ifndef MANYWORLDS_MANIPULATION_WALL_WALL_H_
-#define MANYWORLDS_MANIPULATION_WALL_WALL_H_
+#ifndef MANYWORLDS_MANIPULATION_WALL_H_
+#define MANYWORLDS_MANIPULATION_WALL_H_
 
 #include <span>
 
@@ -27,4 +27,4 @@ void CarryOverWall(const SawyerObs& obs, const Vec3& goal, std::span<float> acti
 
 }  // namespace manyworlds::manipulation::wall
 
-#endif  // MANYWORLDS_MANIPULATION_WALL_WALL_H_
+#endif  // MANYWORLDS_MANIPULATION_WALL_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/button_press_topdown.h"
+#include "manyworlds/manipulation/button/button_press_topdown.h"
 
 #include <algorithm>
 #include <cmath>

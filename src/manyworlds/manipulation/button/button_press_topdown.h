@@ -18,8 +18,8 @@
 //   v1: reward = -|tcp - obj| + max(progress(|obj.z - goal.z|), 0) within
 //     5 cm, max_dist = the press depth at reset (maxDist); info from v1's
 //     zeros: success <= 0.024, near_object 1, grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
-#define MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
+#ifndef MANYWORLDS_MANIPULATION_BUTTON_BUTTON_PRESS_TOPDOWN_H_
+#define MANYWORLDS_MANIPULATION_BUTTON_BUTTON_PRESS_TOPDOWN_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -51,4 +51,4 @@ class ButtonPressTopdownScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_BUTTON_PRESS_TOPDOWN_H_
+#endif  // MANYWORLDS_MANIPULATION_BUTTON_BUTTON_PRESS_TOPDOWN_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/press/buttons.h"
+#include "manyworlds/manipulation/button/buttons.h"
 
 #include <algorithm>
 #include <cmath>

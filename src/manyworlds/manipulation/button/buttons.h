@@ -36,12 +36,12 @@
 //     as v3's); info from v1's zeros: success <= 0.02 (wall: 0.03),
 //     near_object 1, grasp_success 0. button-press-topdown-wall has
 //     button-press-topdown's v1.
-#ifndef MANYWORLDS_MANIPULATION_PRESS_BUTTONS_H_
-#define MANYWORLDS_MANIPULATION_PRESS_BUTTONS_H_
+#ifndef MANYWORLDS_MANIPULATION_BUTTON_BUTTONS_H_
+#define MANYWORLDS_MANIPULATION_BUTTON_BUTTONS_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
-#include "manyworlds/manipulation/button_press_topdown.h"
+#include "manyworlds/manipulation/button/button_press_topdown.h"
 
 namespace manyworlds::manipulation {
 
@@ -119,4 +119,4 @@ class ButtonPressTopdownWallScriptedPolicy : public ButtonPressTopdownScriptedPo
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_PRESS_BUTTONS_H_
+#endif  // MANYWORLDS_MANIPULATION_BUTTON_BUTTONS_H_

@@ -26,7 +26,7 @@
 #define MANYWORLDS_MANIPULATION_COFFEE_COFFEE_BUTTON_H_
 
 #include "manyworlds/manipulation/articulated.h"
-#include "manyworlds/manipulation/press/buttons.h"
+#include "manyworlds/manipulation/button/buttons.h"
 
 namespace manyworlds::manipulation {
 

@@ -1,9 +1,9 @@
-#include "manyworlds/manipulation/door_close.h"
+#include "manyworlds/manipulation/door/door_close.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/door/door_fixture.h"
 #include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {

@@ -18,8 +18,8 @@
 //     within 5 cm, max_dist = that distance at reset (maxPullDist); info from
 //     v1's (reward, distance, 0): success <= 0.08, near_object 0,
 //     grasp_success 1, grasp_reward 1.
-#ifndef MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
-#define MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
+#ifndef MANYWORLDS_MANIPULATION_DOOR_DOOR_CLOSE_H_
+#define MANYWORLDS_MANIPULATION_DOOR_DOOR_CLOSE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -50,4 +50,4 @@ class DoorCloseScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_DOOR_CLOSE_H_
+#endif  // MANYWORLDS_MANIPULATION_DOOR_DOOR_CLOSE_H_

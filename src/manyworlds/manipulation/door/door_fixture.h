@@ -10,8 +10,8 @@
 // door-close's goal (obj_pos + (0.2, -0.2, 0)) lies 0.012 m from the shut
 // handle, which is within 0.08 of it once the door is within about 9
 // degrees of shut.
-#ifndef MANYWORLDS_MANIPULATION_DOOR_FIXTURE_H_
-#define MANYWORLDS_MANIPULATION_DOOR_FIXTURE_H_
+#ifndef MANYWORLDS_MANIPULATION_DOOR_DOOR_FIXTURE_H_
+#define MANYWORLDS_MANIPULATION_DOOR_DOOR_FIXTURE_H_
 
 #include <cmath>
 
@@ -49,4 +49,4 @@ inline constexpr double kClearHeight = 0.34;
 
 }  // namespace manyworlds::manipulation::door
 
-#endif  // MANYWORLDS_MANIPULATION_DOOR_FIXTURE_H_
+#endif  // MANYWORLDS_MANIPULATION_DOOR_DOOR_FIXTURE_H_

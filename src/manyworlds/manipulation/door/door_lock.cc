@@ -1,13 +1,13 @@
-#include "manyworlds/manipulation/rotary/door_lock.h"
+#include "manyworlds/manipulation/door/door_lock.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/door/door_fixture.h"
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/rotary/rotary.h"
+#include "manyworlds/manipulation/bar_push.h"
 
 namespace manyworlds::manipulation {
 namespace {

@@ -28,8 +28,8 @@
 //     in_place_reward pressed / pushed; obj_to_target as above.
 //   (tol: long-tail tolerance; H: Hamacher product. The record's obj_init is
 //   the lock's axis point, v3's obj_init_pos.)
-#ifndef MANYWORLDS_MANIPULATION_ROTARY_DOOR_LOCK_H_
-#define MANYWORLDS_MANIPULATION_ROTARY_DOOR_LOCK_H_
+#ifndef MANYWORLDS_MANIPULATION_DOOR_DOOR_LOCK_H_
+#define MANYWORLDS_MANIPULATION_DOOR_DOOR_LOCK_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -82,4 +82,4 @@ class DoorUnlockScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_ROTARY_DOOR_LOCK_H_
+#endif  // MANYWORLDS_MANIPULATION_DOOR_DOOR_LOCK_H_

@@ -1,10 +1,10 @@
-#include "manyworlds/manipulation/door_open.h"
+#include "manyworlds/manipulation/door/door_open.h"
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
-#include "manyworlds/manipulation/door_fixture.h"
+#include "manyworlds/manipulation/door/door_fixture.h"
 #include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {

@@ -22,8 +22,8 @@
 //     distance to the goal), 0) : 0), max_dist = the handle's xy distance
 //     to the goal at reset (maxPullDist); info from v1's zeros: success as
 //     v2, every other field 0.
-#ifndef MANYWORLDS_MANIPULATION_DOOR_OPEN_H_
-#define MANYWORLDS_MANIPULATION_DOOR_OPEN_H_
+#ifndef MANYWORLDS_MANIPULATION_DOOR_DOOR_OPEN_H_
+#define MANYWORLDS_MANIPULATION_DOOR_DOOR_OPEN_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -55,4 +55,4 @@ class DoorOpenScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_DOOR_OPEN_H_
+#endif  // MANYWORLDS_MANIPULATION_DOOR_DOOR_OPEN_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/drawer_close.h"
+#include "manyworlds/manipulation/drawer/drawer_close.h"
 
 #include <algorithm>
 #include <cmath>

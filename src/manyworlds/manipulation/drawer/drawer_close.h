@@ -18,8 +18,8 @@
 //   v1: reward = -|tcp - obj| + (|tcp - obj| < 0.05 ? max(progress(|obj.y -
 //     goal.y|), 0) : 0), max_dist 0.15 (maxDist); info from v1's zeros:
 //     success |obj.y - goal.y| <= 0.065, near_object 1, grasp_success 1.
-#ifndef MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
-#define MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
+#ifndef MANYWORLDS_MANIPULATION_DRAWER_DRAWER_CLOSE_H_
+#define MANYWORLDS_MANIPULATION_DRAWER_DRAWER_CLOSE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -48,4 +48,4 @@ class DrawerCloseScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_DRAWER_CLOSE_H_
+#endif  // MANYWORLDS_MANIPULATION_DRAWER_DRAWER_CLOSE_H_

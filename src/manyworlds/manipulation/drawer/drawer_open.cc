@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/drawer_open.h"
+#include "manyworlds/manipulation/drawer/drawer_open.h"
 
 #include <algorithm>
 #include <cmath>

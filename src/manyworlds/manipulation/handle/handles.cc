@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/press/handles.h"
+#include "manyworlds/manipulation/handle/handles.h"
 
 #include <algorithm>
 #include <cmath>

@@ -44,8 +44,8 @@
 //     frame, 0.022 in v3's model, kept as v3 has it); info from v1's zeros:
 //     success <= 0.02 (press), 0.05 (handle-pull), 0.08 (handle-pull-side);
 //     near_object 1; grasp_success 1 (press) or 0 (pull).
-#ifndef MANYWORLDS_MANIPULATION_PRESS_HANDLES_H_
-#define MANYWORLDS_MANIPULATION_PRESS_HANDLES_H_
+#ifndef MANYWORLDS_MANIPULATION_HANDLE_HANDLES_H_
+#define MANYWORLDS_MANIPULATION_HANDLE_HANDLES_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -136,4 +136,4 @@ class HandlePullSideScriptedPolicy : public HandlePullScriptedPolicy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_PRESS_HANDLES_H_
+#endif  // MANYWORLDS_MANIPULATION_HANDLE_HANDLES_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/peg_insert_side.h"
+#include "manyworlds/manipulation/peg/peg_insert_side.h"
 
 #include <algorithm>
 #include <cmath>

@@ -23,8 +23,8 @@
 //     bonus reading the head's distance to the goal until it is within 5 cm
 //     (lift target = the peg's start height + kV1Lift); info from v1's
 //     zeros: success |obj - goal| <= 0.07, near_object 1, grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_PEG_INSERT_SIDE_H_
-#define MANYWORLDS_MANIPULATION_PEG_INSERT_SIDE_H_
+#ifndef MANYWORLDS_MANIPULATION_PEG_PEG_INSERT_SIDE_H_
+#define MANYWORLDS_MANIPULATION_PEG_PEG_INSERT_SIDE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -61,4 +61,4 @@ class PegInsertSideScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_PEG_INSERT_SIDE_H_
+#endif  // MANYWORLDS_MANIPULATION_PEG_PEG_INSERT_SIDE_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/basketball.h"
+#include "manyworlds/manipulation/pick_place/basketball.h"
 
 #include <algorithm>
 #include <cmath>

@@ -18,8 +18,8 @@
 //   v1: as pick-place's (v1::PickPlace, lift target 0.3 m above the
 //     object's start); info from v1's zeros: success |obj - goal| <= 0.08,
 //     near_object 1, grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_BASKETBALL_H_
-#define MANYWORLDS_MANIPULATION_BASKETBALL_H_
+#ifndef MANYWORLDS_MANIPULATION_PICK_PLACE_BASKETBALL_H_
+#define MANYWORLDS_MANIPULATION_PICK_PLACE_BASKETBALL_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -52,4 +52,4 @@ class BasketballScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_BASKETBALL_H_
+#endif  // MANYWORLDS_MANIPULATION_PICK_PLACE_BASKETBALL_H_

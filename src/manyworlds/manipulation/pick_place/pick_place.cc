@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/pick_place.h"
+#include "manyworlds/manipulation/pick_place/pick_place.h"
 
 #include <algorithm>
 #include <cmath>

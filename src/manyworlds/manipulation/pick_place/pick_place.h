@@ -15,8 +15,8 @@
 //     goal|), 0) while lifted, near and not dropped (v1::PickPlace; lift
 //     target 4 cm above the puck's start); info from v1's zeros: success
 //     |obj - goal| <= 0.07, near_object 1, grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_PICK_PLACE_H_
-#define MANYWORLDS_MANIPULATION_PICK_PLACE_H_
+#ifndef MANYWORLDS_MANIPULATION_PICK_PLACE_PICK_PLACE_H_
+#define MANYWORLDS_MANIPULATION_PICK_PLACE_PICK_PLACE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -45,4 +45,4 @@ class PickPlaceScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_PICK_PLACE_H_
+#endif  // MANYWORLDS_MANIPULATION_PICK_PLACE_PICK_PLACE_H_

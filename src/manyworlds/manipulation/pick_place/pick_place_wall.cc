@@ -1,11 +1,11 @@
-#include "manyworlds/manipulation/wall/pick_place_wall.h"
+#include "manyworlds/manipulation/pick_place/pick_place_wall.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/wall/wall.h"
+#include "manyworlds/manipulation/wall.h"
 
 namespace manyworlds::manipulation {
 

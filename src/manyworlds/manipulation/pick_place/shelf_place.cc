@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/shelf_place.h"
+#include "manyworlds/manipulation/pick_place/shelf_place.h"
 
 #include <algorithm>
 #include <cmath>

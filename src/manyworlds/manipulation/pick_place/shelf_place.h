@@ -19,8 +19,8 @@
 //   v1: as pick-place's (v1::PickPlace, lift target 0.04 m above the
 //     object's start); info from v1's zeros: success |obj - goal| <= 0.07,
 //     near_object 1, grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_SHELF_PLACE_H_
-#define MANYWORLDS_MANIPULATION_SHELF_PLACE_H_
+#ifndef MANYWORLDS_MANIPULATION_PICK_PLACE_SHELF_PLACE_H_
+#define MANYWORLDS_MANIPULATION_PICK_PLACE_SHELF_PLACE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -53,4 +53,4 @@ class ShelfPlaceScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SHELF_PLACE_H_
+#endif  // MANYWORLDS_MANIPULATION_PICK_PLACE_SHELF_PLACE_H_

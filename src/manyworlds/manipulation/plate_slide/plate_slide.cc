@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/slide/plate_slide.h"
+#include "manyworlds/manipulation/plate_slide/plate_slide.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/slide/push_from_behind.h"
+#include "manyworlds/manipulation/push_from_behind.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {

@@ -22,8 +22,8 @@
 //   v1 (all four): reward = -|tcp - obj| + max(progress(xy distance to the
 //     goal), 0) within 5 cm, max_dist = that distance at reset (maxDist);
 //     info from v1's zeros: success <= 0.07, near_object 1.
-#ifndef MANYWORLDS_MANIPULATION_SLIDE_PLATE_SLIDE_H_
-#define MANYWORLDS_MANIPULATION_SLIDE_PLATE_SLIDE_H_
+#ifndef MANYWORLDS_MANIPULATION_PLATE_SLIDE_PLATE_SLIDE_H_
+#define MANYWORLDS_MANIPULATION_PLATE_SLIDE_PLATE_SLIDE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -87,4 +87,4 @@ class PlateSlideScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SLIDE_PLATE_SLIDE_H_
+#endif  // MANYWORLDS_MANIPULATION_PLATE_SLIDE_PLATE_SLIDE_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/push.h"
+#include "manyworlds/manipulation/push/push.h"
 
 #include <algorithm>
 #include <cmath>

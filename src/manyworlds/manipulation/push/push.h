@@ -14,8 +14,8 @@
 //     distance to the goal), 0) : 0), max_dist = |obj_init - goal| in xy
 //     (maxPushDist); info from v1's zeros: success xy distance <= 0.05,
 //     near_object 1, grasp_success 0, obj_to_target the xy distance.
-#ifndef MANYWORLDS_MANIPULATION_PUSH_H_
-#define MANYWORLDS_MANIPULATION_PUSH_H_
+#ifndef MANYWORLDS_MANIPULATION_PUSH_PUSH_H_
+#define MANYWORLDS_MANIPULATION_PUSH_PUSH_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -44,4 +44,4 @@ class PushScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_PUSH_H_
+#endif  // MANYWORLDS_MANIPULATION_PUSH_PUSH_H_

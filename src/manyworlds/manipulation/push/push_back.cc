@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/slide/push_back.h"
+#include "manyworlds/manipulation/push/push_back.h"
 
 #include <algorithm>
 #include <cmath>

@@ -11,8 +11,8 @@
 //     within 5 cm, max_dist = |obj_init - goal| in xy (maxPushDist); info
 //     from v1's zeros: success xy distance <= 0.07, near_object 1,
 //     grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_WALL_PUSH_WALL_H_
-#define MANYWORLDS_MANIPULATION_WALL_PUSH_WALL_H_
+#ifndef MANYWORLDS_MANIPULATION_PUSH_PUSH_WALL_H_
+#define MANYWORLDS_MANIPULATION_PUSH_PUSH_WALL_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -40,4 +40,4 @@ class PushWallScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_WALL_PUSH_WALL_H_
+#endif  // MANYWORLDS_MANIPULATION_PUSH_PUSH_WALL_H_

@@ -1,11 +1,11 @@
-#include "manyworlds/manipulation/slide/soccer.h"
+#include "manyworlds/manipulation/push/soccer.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/slide/push_from_behind.h"
+#include "manyworlds/manipulation/push_from_behind.h"
 #include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {

@@ -14,8 +14,8 @@
 //     within 5 cm, max_dist = |obj_init - goal| in xy (maxPushDist); info
 //     from v1's zeros: success xy distance <= 0.07, near_object 1,
 //     grasp_success 0.
-#ifndef MANYWORLDS_MANIPULATION_SLIDE_SOCCER_H_
-#define MANYWORLDS_MANIPULATION_SLIDE_SOCCER_H_
+#ifndef MANYWORLDS_MANIPULATION_PUSH_SOCCER_H_
+#define MANYWORLDS_MANIPULATION_PUSH_SOCCER_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -47,4 +47,4 @@ class SoccerScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SLIDE_SOCCER_H_
+#endif  // MANYWORLDS_MANIPULATION_PUSH_SOCCER_H_

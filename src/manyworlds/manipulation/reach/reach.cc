@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/reach.h"
+#include "manyworlds/manipulation/reach/reach.h"
 
 #include <algorithm>
 #include <cmath>

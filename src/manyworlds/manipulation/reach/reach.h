@@ -7,8 +7,8 @@
 //     in_place_reward = the tolerance term.
 //   v1: reward = max(progress(|tcp - goal|), 0) with max_dist = |tcp_init -
 //     goal| (maxReachDist); info as above with in_place_reward 0.
-#ifndef MANYWORLDS_MANIPULATION_REACH_H_
-#define MANYWORLDS_MANIPULATION_REACH_H_
+#ifndef MANYWORLDS_MANIPULATION_REACH_REACH_H_
+#define MANYWORLDS_MANIPULATION_REACH_REACH_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -37,4 +37,4 @@ class ReachScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_REACH_H_
+#endif  // MANYWORLDS_MANIPULATION_REACH_REACH_H_

@@ -1,11 +1,11 @@
-#include "manyworlds/manipulation/wall/reach_wall.h"
+#include "manyworlds/manipulation/reach/reach_wall.h"
 
 #include <algorithm>
 #include <cmath>
 
 #include "manyworlds/manipulation/policy_utils.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/wall/wall.h"
+#include "manyworlds/manipulation/wall.h"
 
 namespace manyworlds::manipulation {
 

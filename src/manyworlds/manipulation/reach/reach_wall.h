@@ -8,8 +8,8 @@
 //   v1: reward = max(progress(|tcp - goal|), 0), max_dist = |tcp_init -
 //     goal| (maxReachDist); info: success <= 0.05, obj_to_target the
 //     distance, the rest 0.
-#ifndef MANYWORLDS_MANIPULATION_WALL_REACH_WALL_H_
-#define MANYWORLDS_MANIPULATION_WALL_REACH_WALL_H_
+#ifndef MANYWORLDS_MANIPULATION_REACH_REACH_WALL_H_
+#define MANYWORLDS_MANIPULATION_REACH_REACH_WALL_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -37,4 +37,4 @@ class ReachWallScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_WALL_REACH_WALL_H_
+#endif  // MANYWORLDS_MANIPULATION_REACH_REACH_WALL_H_

@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/manipulation/rotary/rotary.h"
+#include "manyworlds/manipulation/bar_push.h"
 
 namespace manyworlds::manipulation {
 namespace {

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/lever_pull.h"
+#include "manyworlds/manipulation/rotary/lever_pull.h"
 
 #include <algorithm>
 #include <cmath>

@@ -20,8 +20,8 @@
 //     max_dist = |goal - obj_init| (maxPullDist); info from v1's (reward, 0,
 //     0, |obj - goal|, 0): success |obj - goal| <= pi/24 (v3 reads the
 //     distance as its angle error), near_object 1, the rest 0.
-#ifndef MANYWORLDS_MANIPULATION_LEVER_PULL_H_
-#define MANYWORLDS_MANIPULATION_LEVER_PULL_H_
+#ifndef MANYWORLDS_MANIPULATION_ROTARY_LEVER_PULL_H_
+#define MANYWORLDS_MANIPULATION_ROTARY_LEVER_PULL_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -50,4 +50,4 @@ class LeverPullScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_LEVER_PULL_H_
+#endif  // MANYWORLDS_MANIPULATION_ROTARY_LEVER_PULL_H_

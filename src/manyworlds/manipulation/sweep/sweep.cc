@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/sweep.h"
+#include "manyworlds/manipulation/sweep/sweep.h"
 
 #include <algorithm>
 #include <cmath>

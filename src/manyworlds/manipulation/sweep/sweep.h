@@ -14,8 +14,8 @@
 //     within 5 cm, both terms' distances 0 once the puck is 5 cm below its
 //     start, max_dist = |obj_init - goal| in xy (maxPushDist); info from
 //     v1's zeros: success distance <= 0.05, near_object 1.
-#ifndef MANYWORLDS_MANIPULATION_SWEEP_H_
-#define MANYWORLDS_MANIPULATION_SWEEP_H_
+#ifndef MANYWORLDS_MANIPULATION_SWEEP_SWEEP_H_
+#define MANYWORLDS_MANIPULATION_SWEEP_SWEEP_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -44,4 +44,4 @@ class SweepScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SWEEP_H_
+#endif  // MANYWORLDS_MANIPULATION_SWEEP_SWEEP_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/sweep_into.h"
+#include "manyworlds/manipulation/sweep/sweep_into.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,8 +16,8 @@
 //     within 5 cm, both distances 0 once the puck has dropped 5 cm (with
 //     0.4 < y < 1), max_dist = |obj_init - goal| in xy (maxPushDist); info
 //     from v1's zeros: success distance <= 0.05, near_object 1.
-#ifndef MANYWORLDS_MANIPULATION_SWEEP_INTO_H_
-#define MANYWORLDS_MANIPULATION_SWEEP_INTO_H_
+#ifndef MANYWORLDS_MANIPULATION_SWEEP_SWEEP_INTO_H_
+#define MANYWORLDS_MANIPULATION_SWEEP_SWEEP_INTO_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -45,4 +45,4 @@ class SweepIntoScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_SWEEP_INTO_H_
+#endif  // MANYWORLDS_MANIPULATION_SWEEP_SWEEP_INTO_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/window_close.h"
+#include "manyworlds/manipulation/window/window_close.h"
 
 #include <algorithm>
 #include <cmath>

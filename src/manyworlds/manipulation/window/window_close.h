@@ -19,8 +19,8 @@
 //     goal.x|) : 0) (not clamped, as v3), max_dist 0.2 (maxPullDist); info
 //     from v1's zeros: success |obj.x - goal.x| <= 0.05, near_object 1,
 //     grasp_success 1.
-#ifndef MANYWORLDS_MANIPULATION_WINDOW_CLOSE_H_
-#define MANYWORLDS_MANIPULATION_WINDOW_CLOSE_H_
+#ifndef MANYWORLDS_MANIPULATION_WINDOW_WINDOW_CLOSE_H_
+#define MANYWORLDS_MANIPULATION_WINDOW_WINDOW_CLOSE_H_
 
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
@@ -49,4 +49,4 @@ class WindowCloseScriptedPolicy : public Policy {
 
 }  // namespace manyworlds::manipulation
 
-#endif  // MANYWORLDS_MANIPULATION_WINDOW_CLOSE_H_
+#endif  // MANYWORLDS_MANIPULATION_WINDOW_WINDOW_CLOSE_H_

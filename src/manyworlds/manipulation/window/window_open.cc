@@ -1,4 +1,4 @@
-#include "manyworlds/manipulation/window_open.h"
+#include "manyworlds/manipulation/window/window_open.h"
 
 #include <algorithm>
 #include <cmath>
