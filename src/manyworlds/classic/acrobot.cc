@@ -2,9 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <vector>
-
-#include "manyworlds/classic/common.h"
 
 namespace manyworlds::classic {
 namespace {
@@ -18,28 +15,23 @@ double WrapAngle(double angle) {
   return angle - period * std::floor((angle + AcrobotEnv::kPi) / period);
 }
 
-}  // namespace
-
-EnvSpec AcrobotEnv::MakeSpec(const Config& config) {
-  CheckIntOption(kId, "horizon", config.horizon, 1);
-  const auto v1 = static_cast<float>(kMaxVel1);
-  const auto v2 = static_cast<float>(kMaxVel2);
-  EnvSpec spec;
-  spec.id = kId;
-  spec.description = "Acrobot swing-up with task-dependent link lengths, masses and torque sign";
-  spec.action_space = Space::Discrete(3);
-  spec.env_obs_space =
-      Space::Box({-1.0f, -1.0f, -1.0f, -1.0f, -v1, -v2}, {1.0f, 1.0f, 1.0f, 1.0f, v1, v2}, {6});
-  spec.task_obs_space = Space::Box(-1.0f, 1.0f, {kTaskDim});
-  spec.info_fields = {"success"};
-  spec.max_episode_steps = config.horizon;
-  return spec;
+// cos and sin of both angles, then the two velocities.
+Space ObsSpace() {
+  const auto v1 = static_cast<float>(AcrobotEnv::kMaxVel1);
+  const auto v2 = static_cast<float>(AcrobotEnv::kMaxVel2);
+  return Space::Box({-1.0f, -1.0f, -1.0f, -1.0f, -v1, -v2}, {1.0f, 1.0f, 1.0f, 1.0f, v1, v2}, {6});
 }
 
-AcrobotEnv::AcrobotEnv(const Config& config)
-    : Env(MakeSpec(config)), hide_task_(config.hide_task) {}
+}  // namespace
 
-AcrobotEnv::Physics AcrobotEnv::PhysicsFromMu(const std::array<double, kTaskDim>& mu) {
+AcrobotEnv::AcrobotEnv(const Config& config)
+    : TaskVectorEnv(MakeSpec(kId, config,
+                             "Acrobot swing-up with task-dependent link lengths, masses and "
+                             "torque sign",
+                             Space::Discrete(3), ObsSpace()),
+                    config, &PhysicsFromMu, /*reset_noise=*/0.1) {}
+
+AcrobotEnv::Physics AcrobotEnv::PhysicsFromMu(const TaskVector& mu) {
   Physics p;
   p.l1 = 1.0 + 0.5 * mu[0];
   p.l2 = 1.0 + 0.5 * mu[1];
@@ -95,27 +87,6 @@ bool AcrobotEnv::IsTerminal(const Physics& p, const State& s) {
   return tip_height > 0.5 * (p.l1 + p.l2);
 }
 
-TaskState AcrobotEnv::DoSampleTaskState(Rng& task_rng) {
-  std::vector<double> mu(kTaskDim);
-  for (double& m : mu) m = task_rng.Uniform(-1.0, 1.0);
-  return TaskState{kId, {{"mu", mu}}};
-}
-
-TaskState AcrobotEnv::DoGetTaskState() const {
-  return TaskState{kId, {{"mu", std::vector<double>(mu_.begin(), mu_.end())}}};
-}
-
-void AcrobotEnv::DoSetTaskState(const TaskState& state) {
-  TaskStateReader reader(state, kId);
-  reader.ExpectKeys({"mu"});
-  const auto mu = reader.Numbers("mu", kTaskDim, -1.0, 1.0);
-  std::copy(mu.begin(), mu.end(), mu_.begin());
-  physics_ = PhysicsFromMu(mu_);
-  float obs[kTaskDim] = {};
-  for (int i = 0; i < kTaskDim; ++i) obs[i] = hide_task_ ? 0.0f : static_cast<float>(mu_[i]);
-  SetTaskObs(obs);
-}
-
 void AcrobotEnv::WriteObs(std::span<float> env_obs) const {
   env_obs[0] = static_cast<float>(std::cos(state_[0]));
   env_obs[1] = static_cast<float>(std::sin(state_[0]));
@@ -125,16 +96,11 @@ void AcrobotEnv::WriteObs(std::span<float> env_obs) const {
   env_obs[5] = static_cast<float>(state_[3]);
 }
 
-void AcrobotEnv::DoReset(const ObsView& out) {
-  for (double& v : state_) v = env_rng().Uniform(-0.1, 0.1);
-  WriteObs(out.env_obs);
-}
-
 void AcrobotEnv::DoStep(std::span<const float> action, const StepView& out) {
-  const double torque = physics_.torque_sign * (static_cast<double>(action[0]) - 1.0);
-  state_ = Integrate(physics_, state_, torque);
+  const double torque = physics().torque_sign * (static_cast<double>(action[0]) - 1.0);
+  state_ = Integrate(physics(), state_, torque);
   WriteObs(out.env_obs);
-  const bool terminal = IsTerminal(physics_, state_);
+  const bool terminal = IsTerminal(physics(), state_);
   *out.reward = terminal ? 0.0f : -1.0f;
   *out.terminated = terminal;
   out.info[0] = terminal ? 1.0f : 0.0f;

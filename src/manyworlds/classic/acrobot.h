@@ -28,65 +28,43 @@
 #ifndef MANYWORLDS_CLASSIC_ACROBOT_H_
 #define MANYWORLDS_CLASSIC_ACROBOT_H_
 
-#include <array>
-#include <cstdint>
 #include <numbers>
 
-#include "manyworlds/core/env.h"
+#include "manyworlds/classic/task_vector_env.h"
 
 namespace manyworlds::classic {
 
-class AcrobotEnv : public Env {
+struct AcrobotPhysics {
+  double l1 = 1.0, l2 = 1.0;    // link lengths
+  double m1 = 1.0, m2 = 1.0;    // link masses
+  double lc1 = 0.5, lc2 = 0.5;  // centre-of-mass distances from the joints
+  double i1 = 1.0, i2 = 1.0;    // moments of inertia
+  double torque_sign = 1.0;
+};
+
+// State: t1, t2, t1_dot, t2_dot.
+class AcrobotEnv : public TaskVectorEnv<AcrobotPhysics> {
  public:
+  using Physics = AcrobotPhysics;
   static constexpr const char* kId = "acrobot";
-  static constexpr int kTaskDim = 5;
   static constexpr double kDt = 0.2;
   static constexpr double kPi = std::numbers::pi;
   static constexpr double kMaxVel1 = 4.0 * kPi;
   static constexpr double kMaxVel2 = 9.0 * kPi;
 
-  struct Config {
-    int64_t horizon = 500;
-    bool hide_task = false;
-  };
-
-  struct Physics {
-    double l1 = 1.0, l2 = 1.0;    // link lengths
-    double m1 = 1.0, m2 = 1.0;    // link masses
-    double lc1 = 0.5, lc2 = 0.5;  // centre-of-mass distances from the joints
-    double i1 = 1.0, i2 = 1.0;    // moments of inertia
-    double torque_sign = 1.0;
-  };
-  using State = std::array<double, 4>;  // t1, t2, t1_dot, t2_dot
-
   // Throws ConfigError on an out-of-range option.
   explicit AcrobotEnv(const Config& config);
 
-  static Physics PhysicsFromMu(const std::array<double, kTaskDim>& mu);
+  static Physics PhysicsFromMu(const TaskVector& mu);
   // Time derivative of the state under a torque (Gym's "book" equations).
   static State Derivative(const Physics& physics, const State& state, double torque);
   // One action step: RK4 over kDt, angle wrapping, velocity clipping.
   static State Integrate(const Physics& physics, const State& state, double torque);
   static bool IsTerminal(const Physics& physics, const State& state);
 
-  const Physics& physics() const { return physics_; }
-  const State& state() const { return state_; }
-
  protected:
-  TaskState DoSampleTaskState(Rng& task_rng) override;
-  TaskState DoGetTaskState() const override;
-  void DoSetTaskState(const TaskState& state) override;
-  void DoReset(const ObsView& out) override;
+  void WriteObs(std::span<float> env_obs) const override;
   void DoStep(std::span<const float> action, const StepView& out) override;
-
- private:
-  static EnvSpec MakeSpec(const Config& config);
-  void WriteObs(std::span<float> env_obs) const;
-
-  bool hide_task_;
-  std::array<double, kTaskDim> mu_{};
-  Physics physics_;
-  State state_{};
 };
 
 }  // namespace manyworlds::classic

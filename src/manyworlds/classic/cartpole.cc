@@ -1,35 +1,30 @@
 #include "manyworlds/classic/cartpole.h"
 
-#include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
-
-#include "manyworlds/classic/common.h"
 
 namespace manyworlds::classic {
 
-EnvSpec CartPoleEnv::MakeSpec(const Config& config) {
-  CheckIntOption(kId, "horizon", config.horizon, 1);
+namespace {
+
+// Twice the termination limits (as Gym); the velocities unbounded.
+Space ObsSpace() {
   const float inf = std::numeric_limits<float>::infinity();
-  const auto x_max = static_cast<float>(2.0 * kXThreshold);
-  const auto theta_max = static_cast<float>(2.0 * kThetaThreshold);
-  EnvSpec spec;
-  spec.id = kId;
-  spec.description = "Cart-pole with task-dependent gravity, masses, pole length and force";
-  spec.action_space = Space::Discrete(2);
-  spec.env_obs_space =
-      Space::Box({-x_max, -inf, -theta_max, -inf}, {x_max, inf, theta_max, inf}, {4});
-  spec.task_obs_space = Space::Box(-1.0f, 1.0f, {kTaskDim});
-  spec.info_fields = {"success"};
-  spec.max_episode_steps = config.horizon;
-  return spec;
+  const auto x_max = static_cast<float>(2.0 * CartPoleEnv::kXThreshold);
+  const auto theta_max = static_cast<float>(2.0 * CartPoleEnv::kThetaThreshold);
+  return Space::Box({-x_max, -inf, -theta_max, -inf}, {x_max, inf, theta_max, inf}, {4});
 }
 
-CartPoleEnv::CartPoleEnv(const Config& config)
-    : Env(MakeSpec(config)), hide_task_(config.hide_task) {}
+}  // namespace
 
-CartPoleEnv::Physics CartPoleEnv::PhysicsFromMu(const std::array<double, kTaskDim>& mu) {
+CartPoleEnv::CartPoleEnv(const Config& config)
+    : TaskVectorEnv(MakeSpec(kId, config,
+                             "Cart-pole with task-dependent gravity, masses, pole length and "
+                             "force",
+                             Space::Discrete(2), ObsSpace()),
+                    config, &PhysicsFromMu, /*reset_noise=*/0.05) {}
+
+CartPoleEnv::Physics CartPoleEnv::PhysicsFromMu(const TaskVector& mu) {
   Physics p;
   p.gravity = 9.8 + 5.0 * mu[0];
   p.cart_mass = 1.0 + 0.5 * mu[1];
@@ -55,38 +50,12 @@ CartPoleEnv::State CartPoleEnv::Integrate(const Physics& p, const State& s, int 
                s[3] + kTau * theta_acc};
 }
 
-TaskState CartPoleEnv::DoSampleTaskState(Rng& task_rng) {
-  std::vector<double> mu(kTaskDim);
-  for (double& m : mu) m = task_rng.Uniform(-1.0, 1.0);
-  return TaskState{kId, {{"mu", mu}}};
-}
-
-TaskState CartPoleEnv::DoGetTaskState() const {
-  return TaskState{kId, {{"mu", std::vector<double>(mu_.begin(), mu_.end())}}};
-}
-
-void CartPoleEnv::DoSetTaskState(const TaskState& state) {
-  TaskStateReader reader(state, kId);
-  reader.ExpectKeys({"mu"});
-  const auto mu = reader.Numbers("mu", kTaskDim, -1.0, 1.0);
-  std::copy(mu.begin(), mu.end(), mu_.begin());
-  physics_ = PhysicsFromMu(mu_);
-  float obs[kTaskDim] = {};
-  for (int i = 0; i < kTaskDim; ++i) obs[i] = hide_task_ ? 0.0f : static_cast<float>(mu_[i]);
-  SetTaskObs(obs);
-}
-
 void CartPoleEnv::WriteObs(std::span<float> env_obs) const {
   for (int i = 0; i < 4; ++i) env_obs[i] = static_cast<float>(state_[i]);
 }
 
-void CartPoleEnv::DoReset(const ObsView& out) {
-  for (double& v : state_) v = env_rng().Uniform(-0.05, 0.05);
-  WriteObs(out.env_obs);
-}
-
 void CartPoleEnv::DoStep(std::span<const float> action, const StepView& out) {
-  state_ = Integrate(physics_, state_, static_cast<int>(action[0]));
+  state_ = Integrate(physics(), state_, static_cast<int>(action[0]));
   WriteObs(out.env_obs);
   const bool fell = std::abs(state_[0]) > kXThreshold || std::abs(state_[2]) > kThetaThreshold;
   *out.reward = 1.0f;

@@ -27,60 +27,37 @@
 #ifndef MANYWORLDS_CLASSIC_CARTPOLE_H_
 #define MANYWORLDS_CLASSIC_CARTPOLE_H_
 
-#include <array>
-#include <cstdint>
-
-#include "manyworlds/core/env.h"
+#include "manyworlds/classic/task_vector_env.h"
 
 namespace manyworlds::classic {
 
-class CartPoleEnv : public Env {
+struct CartPolePhysics {
+  double gravity = 9.8;
+  double cart_mass = 1.0;
+  double pole_mass = 0.1;
+  double half_length = 0.5;
+  double force = 10.0;
+};
+
+// State: x, x_dot, theta, theta_dot.
+class CartPoleEnv : public TaskVectorEnv<CartPolePhysics> {
  public:
+  using Physics = CartPolePhysics;
   static constexpr const char* kId = "cartpole";
-  static constexpr int kTaskDim = 5;
   static constexpr double kTau = 0.02;
   static constexpr double kXThreshold = 2.4;
   static constexpr double kThetaThreshold = 12.0 * 2.0 * 3.14159265358979323846 / 360.0;
 
-  struct Config {
-    int64_t horizon = 500;
-    bool hide_task = false;
-  };
-
-  struct Physics {
-    double gravity = 9.8;
-    double cart_mass = 1.0;
-    double pole_mass = 0.1;
-    double half_length = 0.5;
-    double force = 10.0;
-  };
-  using State = std::array<double, 4>;  // x, x_dot, theta, theta_dot
-
   // Throws ConfigError on an out-of-range option.
   explicit CartPoleEnv(const Config& config);
 
-  static Physics PhysicsFromMu(const std::array<double, kTaskDim>& mu);
+  static Physics PhysicsFromMu(const TaskVector& mu);
   // One Euler step of Gym's cart-pole equations.
   static State Integrate(const Physics& physics, const State& state, int action);
 
-  const Physics& physics() const { return physics_; }
-  const State& state() const { return state_; }
-
  protected:
-  TaskState DoSampleTaskState(Rng& task_rng) override;
-  TaskState DoGetTaskState() const override;
-  void DoSetTaskState(const TaskState& state) override;
-  void DoReset(const ObsView& out) override;
+  void WriteObs(std::span<float> env_obs) const override;
   void DoStep(std::span<const float> action, const StepView& out) override;
-
- private:
-  static EnvSpec MakeSpec(const Config& config);
-  void WriteObs(std::span<float> env_obs) const;
-
-  bool hide_task_;
-  std::array<double, kTaskDim> mu_{};
-  Physics physics_;
-  State state_{};
 };
 
 }  // namespace manyworlds::classic
