@@ -17,17 +17,15 @@
 #ifndef MANYWORLDS_CLASSIC_POINT_NAV_H_
 #define MANYWORLDS_CLASSIC_POINT_NAV_H_
 
-#include <array>
 #include <cstdint>
 
-#include "manyworlds/core/env.h"
+#include "manyworlds/classic/point_env.h"
 
 namespace manyworlds::classic {
 
-class PointNavEnv : public Env {
+class PointNavEnv : public PointEnv {
  public:
   static constexpr const char* kId = "point-nav";
-  static constexpr float kMaxStep = 0.1f;
   static constexpr double kSuccessDistance = 0.05;
 
   struct Config {
@@ -39,23 +37,17 @@ class PointNavEnv : public Env {
   // Throws ConfigError on an out-of-range option.
   explicit PointNavEnv(const Config& config);
 
-  const std::array<double, 2>& goal() const { return goal_; }
-  const std::array<double, 2>& position() const { return position_; }
-
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;
   TaskState DoGetTaskState() const override;
   void DoSetTaskState(const TaskState& state) override;
-  void DoReset(const ObsView& out) override;
-  void DoStep(std::span<const float> action, const StepView& out) override;
+  float Reward(double distance) const override { return static_cast<float>(-distance); }
+  bool Success(double distance) const override { return distance < kSuccessDistance; }
 
  private:
   static EnvSpec MakeSpec(const Config& config);
 
   double goal_range_;
-  bool hide_task_;
-  std::array<double, 2> goal_{};
-  std::array<double, 2> position_{};
 };
 
 }  // namespace manyworlds::classic

@@ -19,18 +19,16 @@
 #ifndef MANYWORLDS_CLASSIC_POINT_NAV_SPARSE_H_
 #define MANYWORLDS_CLASSIC_POINT_NAV_SPARSE_H_
 
-#include <array>
 #include <cstdint>
 #include <numbers>
 
-#include "manyworlds/core/env.h"
+#include "manyworlds/classic/point_env.h"
 
 namespace manyworlds::classic {
 
-class PointNavSparseEnv : public Env {
+class PointNavSparseEnv : public PointEnv {
  public:
   static constexpr const char* kId = "point-nav-sparse";
-  static constexpr float kMaxStep = 0.1f;
   static constexpr double kPi = std::numbers::pi;
 
   struct Config {
@@ -43,24 +41,19 @@ class PointNavSparseEnv : public Env {
   explicit PointNavSparseEnv(const Config& config);
 
   double angle() const { return angle_; }
-  const std::array<double, 2>& goal() const { return goal_; }
-  const std::array<double, 2>& position() const { return position_; }
 
  protected:
   TaskState DoSampleTaskState(Rng& task_rng) override;
   TaskState DoGetTaskState() const override;
   void DoSetTaskState(const TaskState& state) override;
-  void DoReset(const ObsView& out) override;
-  void DoStep(std::span<const float> action, const StepView& out) override;
+  float Reward(double distance) const override { return Success(distance) ? 1.0f : 0.0f; }
+  bool Success(double distance) const override { return distance <= goal_radius_; }
 
  private:
   static EnvSpec MakeSpec(const Config& config);
 
   double goal_radius_;
-  bool hide_task_;
   double angle_ = 0.0;
-  std::array<double, 2> goal_{};
-  std::array<double, 2> position_{};
 };
 
 }  // namespace manyworlds::classic
