@@ -22,7 +22,7 @@ const char* IdOf(CheetahTask task) {
 // Written for manyworlds from the model's published dimensions: capsule
 // radius 0.046; each limb capsule given by its centre, half-length and
 // pitch; joints with range, stiffness and damping; motor gears.
-constexpr char kModelXml[] = R"(<mujoco model="manyworlds_half_cheetah">
+constexpr char kModelHead[] = R"(<mujoco model="manyworlds_half_cheetah">
   <compiler angle="radian" coordinate="local" inertiafromgeom="true"/>
   <option timestep="0.01" integrator="RK4"/>
   <default>
@@ -42,31 +42,31 @@ constexpr char kModelXml[] = R"(<mujoco model="manyworlds_half_cheetah">
       <joint name="rooty" type="hinge" axis="0 1 0" limited="false" armature="0" damping="0" stiffness="0"/>
       <geom name="torso" fromto="-0.5 0 0 0.5 0 0"/>
       <geom name="head" pos="0.6 0 0.1" axisangle="0 1 0 0.87" size="0.046 0.15"/>
-      <body name="bthigh" pos="-0.5 0 0">
-        <joint name="bthigh" type="hinge" axis="0 1 0" range="-0.52 1.05" stiffness="240" damping="6"/>
-        <geom name="bthigh" pos="0.1 0 -0.13" axisangle="0 1 0 -3.8" size="0.046 0.145"/>
-        <body name="bshin" pos="0.16 0 -0.25">
-          <joint name="bshin" type="hinge" axis="0 1 0" range="-0.785 0.785" stiffness="180" damping="4.5"/>
-          <geom name="bshin" pos="-0.14 0 -0.07" axisangle="0 1 0 -2.03" size="0.046 0.15"/>
-          <body name="bfoot" pos="-0.28 0 -0.14">
-            <joint name="bfoot" type="hinge" axis="0 1 0" range="-0.4 0.785" stiffness="120" damping="3"/>
-            <geom name="bfoot" pos="0.03 0 -0.097" axisangle="0 1 0 -0.27" size="0.046 0.094"/>
-          </body>
-        </body>
-      </body>
-      <body name="fthigh" pos="0.5 0 0">
-        <joint name="fthigh" type="hinge" axis="0 1 0" range="-1 0.7" stiffness="180" damping="4.5"/>
-        <geom name="fthigh" pos="-0.07 0 -0.12" axisangle="0 1 0 0.52" size="0.046 0.133"/>
-        <body name="fshin" pos="-0.14 0 -0.24">
-          <joint name="fshin" type="hinge" axis="0 1 0" range="-1.2 0.87" stiffness="120" damping="3"/>
-          <geom name="fshin" pos="0.065 0 -0.09" axisangle="0 1 0 -0.6" size="0.046 0.106"/>
-          <body name="ffoot" pos="0.13 0 -0.18">
-            <joint name="ffoot" type="hinge" axis="0 1 0" range="-0.5 0.5" stiffness="60" damping="1.5"/>
-            <geom name="ffoot" pos="0.045 0 -0.07" axisangle="0 1 0 -0.6" size="0.046 0.07"/>
-          </body>
-        </body>
-      </body>
-    </body>
+)";
+
+// One limb segment: a body with its hinge (about y) and its capsule.
+struct Segment {
+  const char* name;         // of the body, its joint and its capsule
+  const char* pos;          // the body in its parent's frame
+  const char* range;        // joint range (radians)
+  const char* stiffness;
+  const char* damping;
+  const char* capsule_pos;  // the capsule's centre in the body frame
+  const char* pitch;        // the capsule's angle about y (radians)
+  const char* half_length;  // of the capsule
+};
+
+// Thigh, shin and foot, each the parent of the next.
+constexpr Segment kBackLeg[] = {
+    {"bthigh", "-0.5 0 0", "-0.52 1.05", "240", "6", "0.1 0 -0.13", "-3.8", "0.145"},
+    {"bshin", "0.16 0 -0.25", "-0.785 0.785", "180", "4.5", "-0.14 0 -0.07", "-2.03", "0.15"},
+    {"bfoot", "-0.28 0 -0.14", "-0.4 0.785", "120", "3", "0.03 0 -0.097", "-0.27", "0.094"}};
+constexpr Segment kFrontLeg[] = {
+    {"fthigh", "0.5 0 0", "-1 0.7", "180", "4.5", "-0.07 0 -0.12", "0.52", "0.133"},
+    {"fshin", "-0.14 0 -0.24", "-1.2 0.87", "120", "3", "0.065 0 -0.09", "-0.6", "0.106"},
+    {"ffoot", "0.13 0 -0.18", "-0.5 0.5", "60", "1.5", "0.045 0 -0.07", "-0.6", "0.07"}};
+
+constexpr char kModelTail[] = R"(    </body>
   </worldbody>
   <actuator>
     <motor name="bthigh" joint="bthigh" gear="120"/>
@@ -79,10 +79,28 @@ constexpr char kModelXml[] = R"(<mujoco model="manyworlds_half_cheetah">
 </mujoco>
 )";
 
+// A leg's nested bodies, indented below the torso.
+std::string LegXml(const Segment (&leg)[3]) {
+  std::string xml;
+  for (int i = 0; i < 3; ++i) {
+    const std::string indent(6 + 2 * i, ' ');
+    const Segment& s = leg[i];
+    const std::string name = std::string("name=\"") + s.name + "\"";
+    xml += indent + "<body " + name + " pos=\"" + s.pos + "\">\n";
+    xml += indent + "  <joint " + name + " type=\"hinge\" axis=\"0 1 0\" range=\"" + s.range +
+           "\" stiffness=\"" + s.stiffness + "\" damping=\"" + s.damping + "\"/>\n";
+    xml += indent + "  <geom " + name + " pos=\"" + s.capsule_pos + "\" axisangle=\"0 1 0 " +
+           s.pitch + "\" size=\"0.046 " + s.half_length + "\"/>\n";
+  }
+  for (int i = 2; i >= 0; --i) xml += std::string(6 + 2 * i, ' ') + "</body>\n";
+  return xml;
+}
+
 }  // namespace
 
 const std::string& HalfCheetahEnv::ModelXml() {
-  static const std::string xml = kModelXml;
+  static const std::string xml =
+      kModelHead + LegXml(kBackLeg) + LegXml(kFrontLeg) + kModelTail;
   return xml;
 }
 
@@ -114,7 +132,7 @@ EnvSpec HalfCheetahEnv::MakeSpec(const Config& config) {
 HalfCheetahEnv::HalfCheetahEnv(const Config& config)
     : Env(MakeSpec(config)),
       config_(config),
-      model_(sim::LoadModelFromString(kModelXml, {}, "half_cheetah.xml")),
+      model_(sim::LoadModelFromString(ModelXml(), {}, "half_cheetah.xml")),
       data_(sim::MakeData(model_.get())) {}
 
 TaskState HalfCheetahEnv::DoSampleTaskState(Rng& task_rng) {
