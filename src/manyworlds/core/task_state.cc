@@ -112,4 +112,38 @@ void TaskStateReader::ExpectKeys(std::initializer_list<std::string_view> keys) c
   }
 }
 
+namespace {
+
+std::string TaskFieldPrefix(std::string_view env_id) {
+  return "task state for env '" + std::string(env_id) + "': field 'task' ";
+}
+
+}  // namespace
+
+TaskState MakeIndexedTaskState(std::string_view env_id, int index, const TaskState& task) {
+  return TaskState{std::string(env_id), {{"index", index}, {"task", task.ToJson()}}};
+}
+
+IndexedTaskState ReadIndexedTaskState(const TaskState& state, std::string_view env_id,
+                                      int count) {
+  TaskStateReader reader(state, env_id);
+  reader.ExpectKeys({"index", "task"});
+  IndexedTaskState indexed;
+  indexed.index = static_cast<int>(reader.Integer("index", 0, count - 1));
+  auto it = state.params.find("task");
+  if (it == state.params.end()) throw TaskStateError(TaskFieldPrefix(env_id) + "is missing");
+  try {
+    indexed.task = TaskState::FromJson(*it);
+  } catch (const TaskStateError& e) {
+    throw TaskStateError(TaskFieldPrefix(env_id) + "is not a task state: " + e.what());
+  }
+  return indexed;
+}
+
+TaskStateError IndexedTaskRejected(std::string_view env_id, std::string_view task_env,
+                                   const TaskStateError& error) {
+  return TaskStateError(TaskFieldPrefix(env_id) + "was rejected by " + std::string(task_env) +
+                        ": " + error.what());
+}
+
 }  // namespace manyworlds

@@ -16,6 +16,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "manyworlds/core/error.h"
+
 namespace manyworlds {
 
 struct TaskState {
@@ -54,6 +56,22 @@ class TaskStateReader {
   const TaskState& state_;
   std::string env_id_;
 };
+
+// Task states that pick one of several tasks by index and embed the picked
+// task's own state: {"index": i, "task": <its task state>} (MultiEnv,
+// NTasksId).
+TaskState MakeIndexedTaskState(std::string_view env_id, int index, const TaskState& task);
+struct IndexedTaskState {
+  int index = 0;
+  TaskState task;
+};
+// Reads one for env `env_id` whose index must lie in [0, count). Throws
+// TaskStateError naming the field that is missing or wrong.
+IndexedTaskState ReadIndexedTaskState(const TaskState& state, std::string_view env_id, int count);
+// The error to throw when `task_env` (e.g. "env 'cartpole'") rejected the
+// embedded task with `error`.
+TaskStateError IndexedTaskRejected(std::string_view env_id, std::string_view task_env,
+                                   const TaskStateError& error);
 
 }  // namespace manyworlds
 

@@ -104,37 +104,22 @@ void MultiEnv::SetMaxEpisodeSteps(int64_t max_episode_steps) {
   Env::SetMaxEpisodeSteps(max_episode_steps);
 }
 
-TaskState MultiEnv::MakeState(int index, const TaskState& member_state) const {
-  return TaskState{id(), {{"index", index}, {"task", member_state.ToJson()}}};
-}
-
 TaskState MultiEnv::DoSampleTaskState(Rng& task_rng) {
   const int index = static_cast<int>(task_rng.UniformInt(envs_.size()));
-  return MakeState(index, envs_[index]->SampleTaskState());
+  return MakeIndexedTaskState(id(), index, envs_[index]->SampleTaskState());
 }
 
 TaskState MultiEnv::DoGetTaskState() const {
-  return MakeState(active_, envs_[active_]->GetTaskState());
+  return MakeIndexedTaskState(id(), active_, envs_[active_]->GetTaskState());
 }
 
 void MultiEnv::DoSetTaskState(const TaskState& state) {
-  TaskStateReader reader(state, id());
-  reader.ExpectKeys({"index", "task"});
-  const int index = static_cast<int>(reader.Integer("index", 0, num_envs() - 1));
-  const std::string prefix = "task state for env '" + id() + "': field 'task' ";
-  auto it = state.params.find("task");
-  if (it == state.params.end()) throw TaskStateError(prefix + "is missing");
-  TaskState member_state;
-  try {
-    member_state = TaskState::FromJson(*it);
-  } catch (const TaskStateError& e) {
-    throw TaskStateError(prefix + "is not a task state: " + e.what());
-  }
+  const auto [index, member_state] = ReadIndexedTaskState(state, id(), num_envs());
   try {
     envs_[index]->SetTaskState(member_state);
   } catch (const TaskStateError& e) {
-    throw TaskStateError(prefix + "was rejected by env " + std::to_string(index) + " ('" +
-                         envs_[index]->id() + "'): " + e.what());
+    throw IndexedTaskRejected(
+        id(), "env " + std::to_string(index) + " ('" + envs_[index]->id() + "')", e);
   }
   active_ = index;
   const float task_obs[1] = {static_cast<float>(index)};

@@ -54,8 +54,6 @@ class MultiEnv : public Env {
   void DoStep(std::span<const float> action, const StepView& out) override;
 
  private:
-  TaskState MakeState(int index, const TaskState& member_state) const;
-
   std::vector<std::unique_ptr<Env>> envs_;
   // Scratch task observations, one per env (their sizes may differ).
   std::vector<std::vector<float>> member_task_obs_;

@@ -22,34 +22,21 @@ NTasksId::NTasksId(std::unique_ptr<Env> inner, int n, TaskIdEncoding encoding)
   id_obs_.assign(mutable_spec().task_obs_space.flat_size(), 0.0f);
 }
 
-TaskState NTasksId::MakeState(int index, const TaskState& inner_state) const {
-  return TaskState{id(), {{"index", index}, {"task", inner_state.ToJson()}}};
-}
-
 TaskState NTasksId::DoSampleTaskState(Rng& task_rng) {
   const int index = SampleIndex(task_rng);
-  return MakeState(index, tasks()[index]);
+  return MakeIndexedTaskState(id(), index, tasks()[index]);
 }
 
-TaskState NTasksId::DoGetTaskState() const { return MakeState(index_, inner().GetTaskState()); }
+TaskState NTasksId::DoGetTaskState() const {
+  return MakeIndexedTaskState(id(), index_, inner().GetTaskState());
+}
 
 void NTasksId::DoSetTaskState(const TaskState& state) {
-  TaskStateReader reader(state, id());
-  reader.ExpectKeys({"index", "task"});
-  const int index = static_cast<int>(reader.Integer("index", 0, n() - 1));
-  const std::string prefix = "task state for env '" + id() + "': field 'task' ";
-  auto it = state.params.find("task");
-  if (it == state.params.end()) throw TaskStateError(prefix + "is missing");
-  TaskState inner_state;
-  try {
-    inner_state = TaskState::FromJson(*it);
-  } catch (const TaskStateError& e) {
-    throw TaskStateError(prefix + "is not a task state: " + e.what());
-  }
+  const auto [index, inner_state] = ReadIndexedTaskState(state, id(), n());
   try {
     inner().SetTaskState(inner_state);
   } catch (const TaskStateError& e) {
-    throw TaskStateError(prefix + "was rejected by env '" + inner().id() + "': " + e.what());
+    throw IndexedTaskRejected(id(), "env '" + inner().id() + "'", e);
   }
   index_ = index;
   if (encoding_ == TaskIdEncoding::kIndex) {

@@ -40,8 +40,6 @@ class NTasksId : public NTasks {
   void DoReset(const ObsView& out) override;
 
  private:
-  TaskState MakeState(int index, const TaskState& inner_state) const;
-
   TaskIdEncoding encoding_;
   int index_ = -1;
   std::vector<float> id_obs_;  // the task observation of index_
