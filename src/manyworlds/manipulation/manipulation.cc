@@ -12,8 +12,7 @@
 #include "manyworlds/manipulation/container/box_close.h"
 #include "manyworlds/manipulation/door/door_close.h"
 #include "manyworlds/manipulation/door/door_open.h"
-#include "manyworlds/manipulation/drawer/drawer_close.h"
-#include "manyworlds/manipulation/drawer/drawer_open.h"
+#include "manyworlds/manipulation/drawer/drawer.h"
 #include "manyworlds/manipulation/hole/hand_insert.h"
 #include "manyworlds/manipulation/hole/pick_out_of_hole.h"
 #include "manyworlds/manipulation/rotary/lever_pull.h"
@@ -33,14 +32,11 @@
 #include "manyworlds/manipulation/handle/handles.h"
 #include "manyworlds/manipulation/push/push_back.h"
 #include "manyworlds/manipulation/push/soccer.h"
-#include "manyworlds/manipulation/sweep/sweep_into.h"
 #include "manyworlds/manipulation/tool/hammer.h"
 #include "manyworlds/manipulation/tool/stick.h"
 #include "manyworlds/manipulation/pick_place/pick_place_wall.h"
 #include "manyworlds/manipulation/push/push_wall.h"
-#include "manyworlds/manipulation/reach/reach_wall.h"
-#include "manyworlds/manipulation/window/window_close.h"
-#include "manyworlds/manipulation/window/window_open.h"
+#include "manyworlds/manipulation/window/window.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -59,9 +55,18 @@ TaskEntry Entry() {
           [] { return std::make_unique<ScriptedPolicy>(); }};
 }
 
+// A row for one variant of a parameterised task: Task(variant, options),
+// Task::Config(variant), ScriptedPolicy(variant).
+template <typename Task, typename ScriptedPolicy, typename Variant>
+TaskEntry Entry(Variant variant) {
+  return {[variant] { return Task::Config(variant); },
+          [variant](SawyerOptions options) { return std::make_unique<Task>(variant, options); },
+          [variant] { return std::make_unique<ScriptedPolicy>(variant); }};
+}
+
 const std::vector<TaskEntry>& Tasks() {
   static const std::vector<TaskEntry> tasks = {
-      Entry<Reach, ReachScriptedPolicy>(),
+      Entry<Reach, ReachScriptedPolicy>(ReachVariant::kOpen),
       Entry<Push, PushScriptedPolicy>(),
       Entry<PickPlace, PickPlaceScriptedPolicy>(),
       Entry<DoorOpen, DoorOpenScriptedPolicy>(),
@@ -69,15 +74,15 @@ const std::vector<TaskEntry>& Tasks() {
       Entry<DrawerClose, DrawerCloseScriptedPolicy>(),
       Entry<ButtonPressTopdown, ButtonPressTopdownScriptedPolicy>(),
       Entry<PegInsertSide, PegInsertSideScriptedPolicy>(),
-      Entry<WindowOpen, WindowOpenScriptedPolicy>(),
-      Entry<WindowClose, WindowCloseScriptedPolicy>(),
-      Entry<Sweep, SweepScriptedPolicy>(),
+      Entry<Window, WindowScriptedPolicy>(WindowMotion::kOpen),
+      Entry<Window, WindowScriptedPolicy>(WindowMotion::kClose),
+      Entry<Sweep, SweepScriptedPolicy>(SweepVariant::kEdge),
       Entry<Basketball, BasketballScriptedPolicy>(),
       Entry<DoorClose, DoorCloseScriptedPolicy>(),
       Entry<ShelfPlace, ShelfPlaceScriptedPolicy>(),
-      Entry<SweepInto, SweepIntoScriptedPolicy>(),
+      Entry<Sweep, SweepScriptedPolicy>(SweepVariant::kInto),
       Entry<LeverPull, LeverPullScriptedPolicy>(),
-      Entry<ReachWall, ReachWallScriptedPolicy>(),
+      Entry<Reach, ReachScriptedPolicy>(ReachVariant::kWall),
       Entry<PushWall, PushWallScriptedPolicy>(),
       Entry<PickPlaceWall, PickPlaceWallScriptedPolicy>(),
       Entry<PushBack, PushBackScriptedPolicy>(),

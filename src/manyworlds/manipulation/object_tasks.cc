@@ -1,6 +1,9 @@
 #include "manyworlds/manipulation/object_tasks.h"
 
 #include <cmath>
+#include <utility>
+
+#include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
 
@@ -62,6 +65,32 @@ Vec3 SitePosition(const mjData* d, int site) {
 
 void PlaceFixture(mjModel* m, int body, const Vec3& pos) {
   for (int i = 0; i < 3; ++i) m->body_pos[3 * body + i] = pos[i];
+}
+
+RewardTerms ObjectRewardTerms(const SawyerState& s, const ObjectReward& parts) {
+  RewardTerms terms;
+  terms.reward = parts.at_target ? 10.0 : parts.reward;
+  terms.success = parts.obj_to_target <= parts.success_radius;
+  terms.near_object = parts.tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_reward = parts.grasped;
+  terms.in_place_reward = parts.in_place;
+  terms.obj_to_target = parts.obj_to_target;
+  return terms;
+}
+
+GoalFixtureTask::GoalFixtureTask(SawyerTaskConfig config, const char* fixture_body,
+                                 const Vec3& goal_on_fixture, SawyerOptions options)
+    : SawyerTask(std::move(config), options), goal_on_fixture_(goal_on_fixture) {
+  fixture_ = sim::IdLookup(model(), this->config().xml_file).Body(fixture_body);
+}
+
+void GoalFixtureTask::PlaceObjects(mjModel* m, mjData* d) {
+  SawyerTask::PlaceObjects(m, d);
+  const Vec3& goal = goal_pos();
+  PlaceFixture(m, fixture_,
+               {goal[0] - goal_on_fixture_[0], goal[1] - goal_on_fixture_[1],
+                goal[2] - goal_on_fixture_[2]});
 }
 
 }  // namespace manyworlds::manipulation

@@ -1,7 +1,7 @@
-// Pieces shared by the free-object tasks (peg-insert-side, sweep,
-// sweep-into, basketball, shelf-place): one loose object the gripper moves,
-// often next to a static fixture (box, hoop, shelf, pocket) that is moved
-// to the variation's goal at reset.
+// Pieces shared by the free-object tasks (push, pick-place, sweep, peg,
+// hole, basketball, shelf-place, soccer, ...): one loose object the gripper
+// moves, often next to a static fixture (box, hoop, shelf, net) that is
+// moved to the variation's goal at reset.
 #ifndef MANYWORLDS_MANIPULATION_OBJECT_TASKS_H_
 #define MANYWORLDS_MANIPULATION_OBJECT_TASKS_H_
 
@@ -58,6 +58,35 @@ Vec3 SitePosition(const mjData* d, int site);
 // Moves a static (jointless, world-child) body so its frame is at `pos`.
 // Every env owns its model, so this changes only this env's scene.
 void PlaceFixture(mjModel* m, int body, const Vec3& pos);
+
+// The end of Meta-World v3's reward for bringing a free object to a target,
+// which push, push-back, push-wall, pick-place, pick-place-wall,
+// shelf-place, hand-insert and soccer share (ObjectRewardTerms).
+struct ObjectReward {
+  double reward = 0;          // the shaped reward ...
+  bool at_target = false;     // ... or 10 when this holds
+  double obj_to_target = 0;   // info obj_to_target
+  double success_radius = 0;  // success: obj_to_target within it
+  double tcp_to_obj = 0;      // near_object: within 3 cm
+  double grasped = 0;         // info grasp_reward
+  double in_place = 0;        // info in_place_reward
+};
+// The reward and info of `parts`, grasp_success from GraspSuccess.
+RewardTerms ObjectRewardTerms(const SawyerState& state, const ObjectReward& parts);
+
+// A free-object task with a static fixture that stands at the goal (a hoop,
+// shelf, net, box): every reset puts the fixture body's frame at goal -
+// goal_on_fixture, after placing the object.
+class GoalFixtureTask : public SawyerTask {
+ protected:
+  GoalFixtureTask(SawyerTaskConfig config, const char* fixture_body, const Vec3& goal_on_fixture,
+                  SawyerOptions options);
+  void PlaceObjects(mjModel* m, mjData* d) override;
+
+ private:
+  Vec3 goal_on_fixture_;
+  int fixture_ = -1;  // body
+};
 
 }  // namespace manyworlds::manipulation
 

@@ -69,4 +69,18 @@ void InitPickPlace(SawyerState& s, double obj_height, double lift) {
   s.v1_max_dist = Distance(lifted, s.goal) + s.v1_height_target;
 }
 
+RewardTerms PushStep(const SawyerState& s, double success_radius) {
+  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
+  RewardTerms terms;
+  terms.reward = ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
+  terms.success = push_dist <= success_radius;
+  terms.near_object = 1.0;
+  terms.obj_to_target = push_dist;
+  return terms;
+}
+
+void InitPush(SawyerState& s) {
+  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
+}
+
 }  // namespace manyworlds::manipulation::v1

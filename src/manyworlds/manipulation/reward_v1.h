@@ -67,6 +67,15 @@ RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double su
 // max_dist = |(obj_init.xy, height_target) - goal| + height_target.
 void InitPickPlace(SawyerState& s, double obj_height, double lift);
 
+// The v1 step of the push tasks (push, push-back, push-wall, soccer):
+// ReachThenProgress from the tcp-object distance and the object's distance
+// to the goal in xy, and the info v3's evaluate_state builds from v1's
+// (reward, 0, 0, push_dist, 0, 0): success within success_radius,
+// near_object 1, obj_to_target.
+RewardTerms PushStep(const SawyerState& s, double success_radius);
+// max_dist = |obj_init - goal| in xy (maxPushDist), as v3 sets it at reset.
+void InitPush(SawyerState& s);
+
 }  // namespace manyworlds::manipulation::v1
 
 #endif  // MANYWORLDS_MANIPULATION_REWARD_V1_H_

@@ -53,17 +53,11 @@ RewardTerms HandInsert::ComputeReward(const SawyerState& s, std::span<const floa
   caging.high_density = true;
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
-  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) terms.reward += 1.0 + 7.0 * in_place;
-  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) reward += 1.0 + 7.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kTargetRadius,
+                               .obj_to_target = obj_to_target, .success_radius = kTargetRadius,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place});
 }
 
 void HandInsert::InitTaskState(SawyerState& s) const {

@@ -68,17 +68,11 @@ SawyerTaskConfig PegInsertSide::Config() {
   return config;
 }
 
-PegInsertSide::PegInsertSide(SawyerOptions options) : SawyerTask(Config(), options) {
+PegInsertSide::PegInsertSide(SawyerOptions options)
+    : GoalFixtureTask(Config(), "box", kGoalOnBox, options) {
   const sim::IdLookup ids(model(), config().xml_file);
   peg_head_ = ids.Site("peg_head");
   peg_grasp_ = ids.Site("obj_point");
-  box_ = ids.Body("box");
-}
-
-void PegInsertSide::PlaceObjects(mjModel* m, mjData* d) {
-  SawyerTask::PlaceObjects(m, d);
-  const Vec3& goal = goal_pos();
-  PlaceFixture(m, box_, {goal[0] - kGoalOnBox[0], goal[1] - kGoalOnBox[1], goal[2] - kGoalOnBox[2]});
 }
 
 void PegInsertSide::RefreshTaskState(const mjData* d, SawyerState& state) const {

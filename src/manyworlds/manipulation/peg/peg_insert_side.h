@@ -27,11 +27,11 @@
 #define MANYWORLDS_MANIPULATION_PEG_PEG_INSERT_SIDE_H_
 
 #include "manyworlds/core/policy.h"
-#include "manyworlds/manipulation/sawyer_task.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation {
 
-class PegInsertSide : public SawyerTask {
+class PegInsertSide : public GoalFixtureTask {
  public:
   explicit PegInsertSide(SawyerOptions options = {});
   static SawyerTaskConfig Config();
@@ -41,13 +41,11 @@ class PegInsertSide : public SawyerTask {
   RewardTerms ComputeRewardV1(const SawyerState& state,
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
-  void PlaceObjects(mjModel* m, mjData* d) override;
   void RefreshTaskState(const mjData* d, SawyerState& state) const override;
 
  private:
   int peg_head_ = -1;   // site
   int peg_grasp_ = -1;  // site: the observed object point
-  int box_ = -1;       // body
 };
 
 // Grasps the peg at its middle, lifts it onto the hole's axis in front of

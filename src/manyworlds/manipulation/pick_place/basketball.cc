@@ -6,7 +6,6 @@
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -40,16 +39,8 @@ SawyerTaskConfig Basketball::Config() {
   return config;
 }
 
-Basketball::Basketball(SawyerOptions options) : SawyerTask(Config(), options) {
-  hoop_ = sim::IdLookup(model(), config().xml_file).Body("hoop");
-}
-
-void Basketball::PlaceObjects(mjModel* m, mjData* d) {
-  SawyerTask::PlaceObjects(m, d);
-  const Vec3& goal = goal_pos();
-  PlaceFixture(m, hoop_,
-               {goal[0] - kGoalOnStand[0], goal[1] - kGoalOnStand[1], goal[2] - kGoalOnStand[2]});
-}
+Basketball::Basketball(SawyerOptions options)
+    : GoalFixtureTask(Config(), "hoop", kGoalOnStand, options) {}
 
 RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const Vec3 target{s.goal[0], s.goal[1], kTargetHeight};

@@ -22,11 +22,11 @@
 #define MANYWORLDS_MANIPULATION_PICK_PLACE_BASKETBALL_H_
 
 #include "manyworlds/core/policy.h"
-#include "manyworlds/manipulation/sawyer_task.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation {
 
-class Basketball : public SawyerTask {
+class Basketball : public GoalFixtureTask {
  public:
   explicit Basketball(SawyerOptions options = {});
   static SawyerTaskConfig Config();
@@ -36,10 +36,6 @@ class Basketball : public SawyerTask {
   RewardTerms ComputeRewardV1(const SawyerState& state,
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
-  void PlaceObjects(mjModel* m, mjData* d) override;
-
- private:
-  int hoop_ = -1;  // body
 };
 
 // Grasps the ball, lifts it straight up above the ring's height, carries it

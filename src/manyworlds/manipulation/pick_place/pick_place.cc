@@ -42,20 +42,13 @@ RewardTerms PickPlace::ComputeReward(const SawyerState& s, std::span<const float
       LongTailTolerance(obj_to_target, 0.0, 0.05, Distance(s.obj_init, s.goal));
   const double grasped = PickPlaceCaging(s, action[3]);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
+  double reward = HamacherProduct(grasped, in_place);
   if (tcp_to_obj < 0.02 && s.gripper_opening > 0 && s.obj[2] - 0.01 > s.obj_init[2]) {
-    terms.reward += 1.0 + 5.0 * in_place;
+    reward += 1.0 + 5.0 * in_place;
   }
-  if (obj_to_target < 0.05) terms.reward = 10.0;
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success =
-      s.touching_obj && s.gripper_opening > 0 && s.obj[2] - 0.02 > s.obj_init[2] ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < 0.05,
+                               .obj_to_target = obj_to_target, .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place});
 }
 
 void PickPlace::InitTaskState(SawyerState& s) const {

@@ -38,20 +38,14 @@ RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const f
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double grasped_to_midpoint = HamacherProduct(grasped, to_midpoint);
 
-  RewardTerms terms;
-  terms.reward = grasped_to_midpoint;
+  double reward = grasped_to_midpoint;
   if (tcp_to_obj < 0.02 && s.gripper_opening > 0 && s.obj[2] - 0.015 > s.obj_init[2]) {
-    terms.reward = s.obj[1] > 0.75 ? grasped_to_midpoint + 5.0 + 3.0 * to_goal
-                                   : grasped_to_midpoint + 1.0 + 4.0 * to_midpoint;
+    reward = s.obj[1] > 0.75 ? grasped_to_midpoint + 5.0 + 3.0 * to_goal
+                             : grasped_to_midpoint + 1.0 + 4.0 * to_midpoint;
   }
-  if (obj_to_target < kRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = to_goal;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kRadius,
+                               .obj_to_target = obj_to_target, .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = to_goal});
 }
 
 void PickPlaceWall::InitTaskState(SawyerState& s) const {

@@ -6,7 +6,6 @@
 #include "manyworlds/manipulation/grasp_policy.h"
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
-#include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -33,15 +32,8 @@ SawyerTaskConfig ShelfPlace::Config() {
   return config;
 }
 
-ShelfPlace::ShelfPlace(SawyerOptions options) : SawyerTask(Config(), options) {
-  shelf_ = sim::IdLookup(model(), config().xml_file).Body("shelf");
-}
-
-void ShelfPlace::PlaceObjects(mjModel* m, mjData* d) {
-  SawyerTask::PlaceObjects(m, d);
-  const Vec3& goal = goal_pos();
-  PlaceFixture(m, shelf_, {goal[0], goal[1], goal[2] - kGoalHeight});
-}
+ShelfPlace::ShelfPlace(SawyerOptions options)
+    : GoalFixtureTask(Config(), "shelf", {0.0, 0.0, kGoalHeight}, options) {}
 
 RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   // Meta-World v3's shelf-place reward.
@@ -56,8 +48,7 @@ RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const floa
   caging.xz_thresh = 0.01;
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
+  double reward = HamacherProduct(grasped, in_place);
   // Below the shelf top (z 0.24) in front of the goal the shelf is in the
   // way: there, and under the shelf past the goal, nearness is not progress.
   // These change only the carrying bonus below, as in v3.
@@ -70,15 +61,10 @@ RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const floa
     in_place = std::clamp(in_place - HamacherProduct(under, depth), 0.0, 1.0);
   }
   if (below_shelf && s.obj[1] > s.goal[1]) in_place = 0.0;
-  if (HeldAndLifted(s, 0.025, 0.01)) terms.reward += 1.0 + 5.0 * in_place;
-  if (obj_to_target < kRewardRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= kSuccessRadius;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  if (HeldAndLifted(s, 0.025, 0.01)) reward += 1.0 + 5.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kRewardRadius,
+                               .obj_to_target = obj_to_target, .success_radius = kSuccessRadius,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place});
 }
 
 void ShelfPlace::InitTaskState(SawyerState& s) const {

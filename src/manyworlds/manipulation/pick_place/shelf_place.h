@@ -23,11 +23,11 @@
 #define MANYWORLDS_MANIPULATION_PICK_PLACE_SHELF_PLACE_H_
 
 #include "manyworlds/core/policy.h"
-#include "manyworlds/manipulation/sawyer_task.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation {
 
-class ShelfPlace : public SawyerTask {
+class ShelfPlace : public GoalFixtureTask {
  public:
   explicit ShelfPlace(SawyerOptions options = {});
   static SawyerTaskConfig Config();
@@ -37,10 +37,6 @@ class ShelfPlace : public SawyerTask {
   RewardTerms ComputeRewardV1(const SawyerState& state,
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
-  void PlaceObjects(mjModel* m, mjData* d) override;
-
- private:
-  int shelf_ = -1;  // body
 };
 
 // Grasps the block, lifts it above the shelf's height in front of the

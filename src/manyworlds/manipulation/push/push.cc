@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
@@ -39,40 +40,19 @@ RewardTerms Push::ComputeReward(const SawyerState& s, std::span<const float> act
   caging.object_reach_radius = 0.01;
   caging.xz_thresh = 0.005;
   caging.high_density = true;
-  const double grasped = GripperCagingReward(
-      {s.left_pad, s.right_pad, s.tcp, s.obj, s.obj_init, s.tcp_init, action[3]}, caging);
+  const double grasped = CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = 2.0 * grasped;
-  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) {
-    terms.reward = 2.0 * terms.reward + 1.0 + 5.0 * in_place;
-  }
-  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success =
-      s.touching_obj && s.gripper_opening > 0 && s.obj[2] - 0.02 > s.obj_init[2] ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = 2.0 * grasped;
+  if (tcp_to_obj < 0.02 && s.gripper_opening > 0) reward = 2.0 * reward + 1.0 + 5.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kTargetRadius,
+                               .obj_to_target = obj_to_target, .success_radius = kTargetRadius,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place});
 }
 
-void Push::InitTaskState(SawyerState& s) const {
-  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
-}
+void Push::InitTaskState(SawyerState& s) const { v1::InitPush(s); }
 
 RewardTerms Push::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double reach_dist = Distance(s.tcp, s.obj);
-  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, push_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
-  terms.success = push_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.grasp_success = 0.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return v1::PushStep(s, kTargetRadius);
 }
 
 void PushScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

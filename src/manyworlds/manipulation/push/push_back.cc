@@ -32,35 +32,20 @@ RewardTerms PushBack::ComputeReward(const SawyerState& s, std::span<const float>
   const double in_place = LongTailTolerance(obj_to_target, 0.0, kTargetRadius, obj_to_target_init);
   const double grasped = SweepCaging(s, 0.007, 0.003, 0.01);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
+  double reward = HamacherProduct(grasped, in_place);
   if (tcp_to_obj < 0.01 && s.gripper_opening > 0 && s.gripper_opening < 0.55 &&
       obj_to_target_init - obj_to_target > 0.01) {
-    terms.reward += 1.0 + 5.0 * in_place;
+    reward += 1.0 + 5.0 * in_place;
   }
-  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kTargetRadius,
+                               .obj_to_target = obj_to_target, .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place});
 }
 
-void PushBack::InitTaskState(SawyerState& s) const {
-  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
-}
+void PushBack::InitTaskState(SawyerState& s) const { v1::InitPush(s); }
 
 RewardTerms PushBack::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
-  terms.success = push_dist <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return v1::PushStep(s, 0.07);
 }
 
 void PushBackScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -39,35 +39,20 @@ RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float>
   caging.high_density = true;
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = 2.0 * grasped;
+  double reward = 2.0 * grasped;
   if (tcp_to_obj < 0.02 && s.gripper_opening > 0) {
-    terms.reward = s.obj[1] > 0.75 ? 2.0 * grasped + 5.0 + 3.0 * to_goal
-                                   : 2.0 * grasped + 1.0 + 4.0 * to_midpoint;
+    reward = s.obj[1] > 0.75 ? 2.0 * grasped + 5.0 + 3.0 * to_goal
+                             : 2.0 * grasped + 1.0 + 4.0 * to_midpoint;
   }
-  if (obj_to_target < kRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = to_goal;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kRadius,
+                               .obj_to_target = obj_to_target, .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = to_goal});
 }
 
-void PushWall::InitTaskState(SawyerState& s) const {
-  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
-}
+void PushWall::InitTaskState(SawyerState& s) const { v1::InitPush(s); }
 
 RewardTerms PushWall::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
-  terms.success = push_dist <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return v1::PushStep(s, 0.07);
 }
 
 void PushWallScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

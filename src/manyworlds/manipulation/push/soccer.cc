@@ -6,7 +6,6 @@
 #include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
 #include "manyworlds/manipulation/push_from_behind.h"
-#include "manyworlds/sim/ids.h"
 
 namespace manyworlds::manipulation {
 namespace {
@@ -30,14 +29,7 @@ SawyerTaskConfig Soccer::Config() {
   return config;
 }
 
-Soccer::Soccer(SawyerOptions options) : SawyerTask(Config(), options) {
-  net_ = sim::IdLookup(model(), config().xml_file).Body("net");
-}
-
-void Soccer::PlaceObjects(mjModel* m, mjData* d) {
-  SawyerTask::PlaceObjects(m, d);
-  PlaceFixture(m, net_, goal_pos());
-}
+Soccer::Soccer(SawyerOptions options) : GoalFixtureTask(Config(), "net", {}, options) {}
 
 RewardTerms Soccer::ComputeReward(const SawyerState& s, std::span<const float>) const {
   const double tcp_to_obj = Distance(s.tcp, s.obj);
@@ -64,19 +56,10 @@ RewardTerms Soccer::ComputeReward(const SawyerState& s, std::span<const float>) 
   return terms;
 }
 
-void Soccer::InitTaskState(SawyerState& s) const {
-  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
-}
+void Soccer::InitTaskState(SawyerState& s) const { v1::InitPush(s); }
 
 RewardTerms Soccer::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, push_dist, 0, 0)
-  terms.success = push_dist <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return v1::PushStep(s, 0.07);
 }
 
 void SoccerScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

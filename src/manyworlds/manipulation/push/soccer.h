@@ -18,11 +18,11 @@
 #define MANYWORLDS_MANIPULATION_PUSH_SOCCER_H_
 
 #include "manyworlds/core/policy.h"
-#include "manyworlds/manipulation/sawyer_task.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation {
 
-class Soccer : public SawyerTask {
+class Soccer : public GoalFixtureTask {
  public:
   explicit Soccer(SawyerOptions options = {});
   static SawyerTaskConfig Config();
@@ -32,10 +32,6 @@ class Soccer : public SawyerTask {
   RewardTerms ComputeRewardV1(const SawyerState& state,
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
-  void PlaceObjects(mjModel* m, mjData* d) override;
-
- private:
-  int net_ = -1;  // body
 };
 
 // Pushes the ball into the net with the closed fingers.

@@ -16,35 +16,50 @@ constexpr double kPuckRadius = 0.02;
 
 }  // namespace
 
-SawyerTaskConfig Sweep::Config() {
+SawyerTaskConfig Sweep::Config(SweepVariant variant) {
+  const bool into = variant == SweepVariant::kInto;
   SawyerTaskConfig config;
-  config.id = "sweep";
-  config.description = "Sawyer arm: sweep a puck sideways to the edge of the table";
-  config.xml_file = "sweep.xml";
+  config.id = into ? "sweep-into" : "sweep";
+  config.description = into ? "Sawyer arm: sweep a puck into the goal pocket"
+                            : "Sawyer arm: sweep a puck sideways to the edge of the table";
+  config.xml_file = into ? "sweep_into.xml" : "sweep.xml";
   config.obj_low = {-0.1, 0.6, kPuckCentreHeight};
   config.obj_high = {0.1, 0.7, kPuckCentreHeight};
-  // Only bounds the observation: the goal is DeriveGoal's.
-  config.goal_low = {0.49, 0.6, 0.0};
-  config.goal_high = {0.51, 0.7, 0.02};
+  if (into) {
+    // The pocket does not move: the goal is one point.
+    config.goal_low = {0.0, 0.84, 0.02};
+    config.goal_high = {0.0, 0.84, 0.02};
+  } else {
+    // Only bounds the observation: the goal is DeriveGoal's.
+    config.goal_low = {0.49, 0.6, 0.0};
+    config.goal_high = {0.51, 0.7, 0.02};
+  }
   return config;
 }
 
-Sweep::Sweep(SawyerOptions options) : SawyerTask(Config(), options) {}
+Sweep::Sweep(SweepVariant variant, SawyerOptions options)
+    : SawyerTask(Config(variant), options), variant_(variant) {}
 
-Vec3 Sweep::DeriveGoal(const Vec3& obj, const Vec3& /*drawn_goal*/) const {
+Vec3 Sweep::DeriveGoal(const Vec3& obj, const Vec3& drawn_goal) const {
+  if (variant_ == SweepVariant::kInto) return SawyerTask::DeriveGoal(obj, drawn_goal);
   // Meta-World v3 does not sample sweep's goal: it is the table's edge on
   // the puck's row (its goal range only bounds the observation).
   return {0.5, obj[1], 0.01};
 }
 
 RewardTerms Sweep::ComputeReward(const SawyerState& s, std::span<const float> /*action*/) const {
-  const double obj_to_target = Distance(s.obj, s.goal);
+  const bool into = variant_ == SweepVariant::kInto;
+  // sweep-into: Meta-World v3 measures in the table plane, the target at
+  // the puck's height.
+  const Vec3 target = into ? Vec3{s.goal[0], s.goal[1], s.obj[2]} : s.goal;
+  const double obj_to_target = Distance(s.obj, target);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
-  // v3's sweep caging: the pads within 1 cm past the puck's radius, no
-  // gripper-action term.
-  const double grasped = SweepCaging(s, kPuckRadius, 0.01, 0.005);
+      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, target));
+  // v3's caging, no gripper-action term: sweep's pads within 1 cm past the
+  // puck's radius and 5 mm in xz; sweep-into's a 5 mm grip band, 1 cm in xz.
+  const double grasped =
+      into ? SweepCaging(s, kPuckRadius, 0.005, 0.01) : SweepCaging(s, kPuckRadius, 0.01, 0.005);
 
   RewardTerms terms;
   terms.reward = 2.0 * grasped + 6.0 * HamacherProduct(grasped, in_place);
@@ -58,17 +73,17 @@ RewardTerms Sweep::ComputeReward(const SawyerState& s, std::span<const float> /*
   return terms;
 }
 
-void Sweep::InitTaskState(SawyerState& s) const {
-  s.v1_max_dist = std::hypot(s.obj_init[0] - s.goal[0], s.obj_init[1] - s.goal[1]);
-}
+void Sweep::InitTaskState(SawyerState& s) const { v1::InitPush(s); }
 
 RewardTerms Sweep::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double reach_dist = Distance(s.obj, s.tcp);
   double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
   double reward = -reach_dist;
-  // v3: once the puck has fallen off the table, reach and distance count as 0 (the
-  // bonus still needs the tcp within 5 cm)
-  if (s.obj[2] < s.obj_init[2] - 0.05) {
+  // v3: once the puck has fallen off the table, reach and distance count as
+  // 0 (the bonus still needs the tcp within 5 cm); sweep-into: a puck 5 cm
+  // below its start, over the table's span in y, counts as in.
+  const bool over_table = variant_ == SweepVariant::kEdge || (s.obj[1] > 0.4 && s.obj[1] < 1.0);
+  if (s.obj[2] < s.obj_init[2] - 0.05 && over_table) {
     reward = 0.0;
     push_dist = 0.0;
   }
@@ -84,7 +99,11 @@ RewardTerms Sweep::ComputeRewardV1(const SawyerState& s, std::span<const float>)
 void SweepScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                               std::span<float> action) {
   const SawyerObs o(env_obs);
-  GraspAndCarry(o, {o.goal[0], o.goal[1], kPuckCentreHeight + 0.005}, action);
+  // 5 mm above the puck's centre height the puck does not drag on the
+  // table; sweep-into's goal is at that height, sweep's on the table.
+  const double carry_z =
+      variant_ == SweepVariant::kInto ? o.goal[2] + 0.005 : kPuckCentreHeight + 0.005;
+  GraspAndCarry(o, {o.goal[0], o.goal[1], carry_z}, action);
 }
 
 }  // namespace manyworlds::manipulation
