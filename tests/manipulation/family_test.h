@@ -1,8 +1,9 @@
-// Shared by the family tests (coffee, tool, peg, hole, container): a
-// parameterised fixture that makes the case's task from the registry and
-// fails the test if a step raised a MuJoCo warning, the variation's
-// positions, and the scripted- and random-policy checks every family runs
-// (each prints its figure: the docs quote them).
+// Shared by the family tests (articulated fixtures, rotary, coffee, tool,
+// peg, hole, container): a parameterised fixture that makes the case's task
+// from the registry and fails the test if a step raised a MuJoCo warning,
+// the variation's positions, the fixture checks of the tasks whose goal is
+// fixed relative to a fixture, and the scripted- and random-policy checks
+// every family runs (each prints its figure: the docs quote them).
 #ifndef MANYWORLDS_TESTS_MANIPULATION_FAMILY_TEST_H_
 #define MANYWORLDS_TESTS_MANIPULATION_FAMILY_TEST_H_
 
@@ -16,6 +17,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/manipulation/episode_success.h"
+#include "manyworlds/core/error.h"
 #include "manyworlds/core/policy.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/manipulation/manipulation.h"
@@ -59,6 +61,34 @@ class FamilyTest : public ::testing::TestWithParam<Case> {
 inline Vec3 Param(const TaskState& state, const char* key) {
   const auto& v = state.params.at(key);
   return {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+}
+
+// A fixture task's goal is obj_pos + goal_offset in 20 sampled task states
+// (task seed 5), and a goal moved off it is rejected.
+inline void ExpectGoalFixedRelativeToFixture(Env& env, const Vec3& goal_offset) {
+  env.SeedTask(5);
+  for (int i = 0; i < 20; ++i) {
+    const TaskState state = env.SampleTaskState();
+    const Vec3 obj = Param(state, "obj_pos"), goal = Param(state, "goal_pos");
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(goal[k] - obj[k], goal_offset[k], 1e-12);
+  }
+  TaskState moved = env.SampleTaskState();
+  moved.params["goal_pos"][2] = moved.params["goal_pos"][2].get<double>() + 0.01;
+  EXPECT_THROW(env.SetTaskState(moved), TaskStateError);
+}
+
+// After 5 resets (task seed 6), the object point (obs[4:7]) is at obj_pos +
+// handle_start.
+inline void ExpectHandleStartsAt(Env& env, const Vec3& handle_start) {
+  env.SeedTask(6);
+  for (int i = 0; i < 5; ++i) {
+    env.ResetTaskState();
+    const Observation obs = env.Reset();
+    const Vec3 obj = Param(env.GetTaskState(), "obj_pos");
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(obs.env_obs[kObsObj1Pos + k], obj[k] + handle_start[k], 1e-5) << "axis " << k;
+    }
+  }
 }
 
 // The scripted policy over 50 variations (task seed 99).
