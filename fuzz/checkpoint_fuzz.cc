@@ -32,7 +32,7 @@
 #include <string_view>
 
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 
 namespace {
 

@@ -10,7 +10,7 @@
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/collection_bench.h"
+#include "manyworlds/experiments/loops/collection_bench.h"
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::cli {

@@ -20,7 +20,7 @@
 #include "apps/manyworlds/remaining_time.h"
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/boxworld_study.h"
+#include "manyworlds/experiments/studies/boxworld_study.h"
 
 namespace manyworlds::cli {
 namespace {

@@ -23,7 +23,7 @@
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/algorithms.h"
-#include "manyworlds/experiments/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/nn/threads.h"
 
@@ -228,14 +228,8 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
     }
   }
   std::string available;
-  const fs::path dir = experiments::RunPaths{run_dir}.checkpoints();
-  if (fs::is_directory(dir)) {
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      if (entry.is_directory() && name.rfind("step_", 0) == 0) {
-        available += (available.empty() ? "" : ", ") + name;
-      }
-    }
+  for (const fs::path& dir : experiments::ListCheckpoints(run_dir)) {
+    available += (available.empty() ? "" : ", ") + dir.filename().string();
   }
   throw ConfigError("no checkpoint '" + which + "' in '" + run_dir.string() + "' (available: " +
                     (available.empty() ? "none" : available) + ", or 'latest')");

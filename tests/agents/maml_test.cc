@@ -137,8 +137,8 @@ TEST(MamlTest, AdaptFromObservedStepsGivesEachEnvItsOwnPolicy) {
     rewards.push_back(r);
   }
   maml.Adapt(torch::ones({2}, torch::kBool), state);
-  ASSERT_EQ(state.adapted.size(), maml.policy()->params().size());
-  EXPECT_EQ(state.adapted[0].size(0), 2);
+  ASSERT_EQ(state.lists["adapted"].size(), maml.policy()->params().size());
+  EXPECT_EQ(state.lists["adapted"][0].size(0), 2);
   // env 1's adapted parameters = the inner step on env 1's own steps
   MamlEpisodes e;
   e.obs = torch::stack(obs).select(1, 1);
@@ -149,7 +149,7 @@ TEST(MamlTest, AdaptFromObservedStepsGivesEachEnvItsOwnPolicy) {
   e.advantages = maml.Advantages(e.obs, r1, ended, torch::ones({4}));
   const auto expected = maml.InnerStep(maml.policy()->params(), e, torch::ones({4}), false);
   for (size_t j = 0; j < expected.size(); ++j) {
-    EXPECT_TRUE(torch::allclose(state.adapted[j][1], expected[j], 1e-5, 1e-6)) << j;
+    EXPECT_TRUE(torch::allclose(state.lists["adapted"][j][1], expected[j], 1e-5, 1e-6)) << j;
   }
   // the two envs now act differently on the same observation
   const torch::Tensor same = torch::zeros({2, 2});
@@ -157,7 +157,7 @@ TEST(MamlTest, AdaptFromObservedStepsGivesEachEnvItsOwnPolicy) {
   EXPECT_FALSE(torch::allclose(a[0], a[1]));
   // a new task forgets the adaptation
   maml.Reset(torch::ones({2}, torch::kBool), ResetScope::kTask, state);
-  EXPECT_TRUE(state.adapted.empty());
+  EXPECT_TRUE(state.lists["adapted"].empty());
   const torch::Tensor b = maml.Act(same, tasks, state, ActMode::kDeterministic).action;
   EXPECT_TRUE(torch::allclose(b[0], b[1]));
 }

@@ -123,13 +123,13 @@ TEST(PearlUpdateTest, RejectsBatchesThatAreNotWholeTasks) {
 TEST(PearlActorTest, BeliefFollowsTheTrial) {
   PearlLearner pearl(Small(), kObs, kAct);
   ActorState state = pearl.Initial(2);
-  EXPECT_TRUE(state.latent.isnan().all().item<bool>());
+  EXPECT_TRUE(state.tensors["latent"].isnan().all().item<bool>());
   const torch::Tensor obs = torch::zeros({2, kObs});
   const torch::Tensor task = torch::zeros({2}, torch::kInt64);
   const ActOutput first = pearl.Act(obs, task, state, ActMode::kSample);
   ASSERT_EQ(first.action.sizes(), (std::vector<int64_t>{2, kAct}));
-  EXPECT_FALSE(state.latent.isnan().any().item<bool>());
-  const torch::Tensor z = state.latent.clone();
+  EXPECT_FALSE(state.tensors["latent"].isnan().any().item<bool>());
+  const torch::Tensor z = state.tensors["latent"].clone();
   // a step that ends env 1's episode: env 1 redraws z, env 0 keeps it
   StepOutcome o;
   o.obs = torch::ones({2, kObs});
@@ -137,21 +137,25 @@ TEST(PearlActorTest, BeliefFollowsTheTrial) {
   o.reward = torch::tensor({0.5f, -1.0f});
   o.ended = torch::tensor({0.0f, 1.0f});
   pearl.Observe(o, state);
-  EXPECT_TRUE(torch::equal(state.latent[0], z[0]));
-  EXPECT_TRUE(state.latent[1].isnan().all().item<bool>());
-  ASSERT_EQ(state.history.size(), 1u);
+  EXPECT_TRUE(torch::equal(state.tensors["latent"][0], z[0]));
+  EXPECT_TRUE(state.tensors["latent"][1].isnan().all().item<bool>());
+  ASSERT_EQ(state.lists["history"].size(), 1u);
   // Adapt: env 0's belief becomes the posterior of what it observed
   pearl.Adapt(torch::tensor({true, false}), state);
   const LatentBelief expect = pearl.Posterior(
       torch::cat({o.obs, o.action, o.reward.reshape({2, 1})}, 1).narrow(0, 0, 1).unsqueeze(0));
-  EXPECT_TRUE(torch::allclose(state.context[0].narrow(0, 0, 4), expect.mean[0], 1e-5, 1e-6));
-  EXPECT_TRUE(torch::allclose(state.context[0].narrow(0, 4, 4), expect.var[0], 1e-5, 1e-7));
-  EXPECT_TRUE(torch::equal(state.context[1], torch::cat({torch::zeros({4}), torch::ones({4})})));
+  EXPECT_TRUE(
+      torch::allclose(state.tensors["context"][0].narrow(0, 0, 4), expect.mean[0], 1e-5, 1e-6));
+  EXPECT_TRUE(
+      torch::allclose(state.tensors["context"][0].narrow(0, 4, 4), expect.var[0], 1e-5, 1e-7));
+  EXPECT_TRUE(
+      torch::equal(state.tensors["context"][1], torch::cat({torch::zeros({4}), torch::ones({4})})));
   // a new task forgets env 0's evidence
   pearl.Reset(torch::tensor({true, false}), ResetScope::kTask, state);
-  EXPECT_TRUE(torch::equal(state.context[0], torch::cat({torch::zeros({4}), torch::ones({4})})));
-  EXPECT_EQ(state.history[0][0][kObs + kAct + 1].item<float>(), 0.0f);
-  EXPECT_EQ(state.history[0][1][kObs + kAct + 1].item<float>(), 1.0f);
+  EXPECT_TRUE(
+      torch::equal(state.tensors["context"][0], torch::cat({torch::zeros({4}), torch::ones({4})})));
+  EXPECT_EQ(state.lists["history"][0][0][kObs + kAct + 1].item<float>(), 0.0f);
+  EXPECT_EQ(state.lists["history"][0][1][kObs + kAct + 1].item<float>(), 1.0f);
 }
 
 TEST(PearlActorTest, EvaluationDrawsNeverMoveTheTrainingGenerator) {

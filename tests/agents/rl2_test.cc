@@ -51,15 +51,15 @@ TEST(Rl2Test, MemoryPersistsAcrossEpisodesAndResetsBetweenTrials) {
   outcome.reward = torch::ones({2});
   outcome.ended = torch::ones({2});
   rl2.Observe(outcome, state);
-  const torch::Tensor hidden = state.hidden.clone();
+  const torch::Tensor hidden = state.tensors["hidden"].clone();
   EXPECT_GT(hidden.abs().sum().item<float>(), 0.0f);
   rl2.Reset(torch::tensor({true, true}), ResetScope::kEpisode, state);
-  EXPECT_TRUE(torch::equal(state.hidden, hidden));  // the trial goes on
+  EXPECT_TRUE(torch::equal(state.tensors["hidden"], hidden));  // the trial goes on
   rl2.Reset(torch::tensor({false, true}), ResetScope::kTrial, state);
-  EXPECT_TRUE(torch::equal(state.hidden[0], hidden[0]));
-  EXPECT_EQ(state.hidden[1].abs().sum().item<float>(), 0.0f);
-  EXPECT_EQ(state.context[1].abs().sum().item<float>(), 0.0f);
-  EXPECT_GT(state.context[0].abs().sum().item<float>(), 0.0f);
+  EXPECT_TRUE(torch::equal(state.tensors["hidden"][0], hidden[0]));
+  EXPECT_EQ(state.tensors["hidden"][1].abs().sum().item<float>(), 0.0f);
+  EXPECT_EQ(state.tensors["context"][1].abs().sum().item<float>(), 0.0f);
+  EXPECT_GT(state.tensors["context"][0].abs().sum().item<float>(), 0.0f);
 }
 
 TEST(Rl2Test, UpdateTrainsAndCheckpointsRoundTripAndOthersAreRefused) {

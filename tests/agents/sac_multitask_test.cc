@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 #include <torch/torch.h>
 
-#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
 

@@ -10,8 +10,8 @@
 #include <gtest/gtest.h>
 #include <torch/torch.h>
 
-#include "manyworlds/agents/sac.h"
-#include "manyworlds/agents/sac_timing.h"
+#include "manyworlds/agents/sac/sac.h"
+#include "manyworlds/agents/sac/sac_timing.h"
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::agents {

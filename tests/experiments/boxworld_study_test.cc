@@ -1,17 +1,19 @@
 // The box-world study (experiments/boxworld_study.h) on a tiny budget: one
 // row per method with finite numbers and the paper's column, resume without
 // rerunning finished methods, and one-line errors for bad options.
+#include "manyworlds/experiments/studies/boxworld_study.h"
+
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
+#include "manyworlds/agents/ppo/ppo_config.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/boxworld_study.h"
 #include "tests/experiments/scratch_dirs.h"
 
 namespace manyworlds::experiments {
@@ -193,6 +195,31 @@ TEST(BoxWorldStudyTest, BadOptionsAreOneLineErrors) {
   EXPECT_NE(message(o).find("no config '/nonexistent/boxworld_oracle_simple.yaml'"),
             std::string::npos);
   EXPECT_FALSE(fs::exists(o.out_dir));  // nothing created for a bad study
+}
+
+// The published numbers come from configs/published/boxworld_study.yaml, not
+// from the library: another file changes them, a malformed entry is an error
+// naming it, and without the file there is no comparison column.
+TEST(BoxWorldStudyTest, PublishedNumbersAreReadFromTheConfigDirectory) {
+  StudyOptions o;
+  o.config_dir = SourceDir() / "configs";
+  o.task = "complex";
+  ASSERT_TRUE(PaperResult(o, "maml").has_value());
+  EXPECT_DOUBLE_EQ(PaperResult(o, "maml")->mean_reward, 17.59);
+  EXPECT_FALSE(PaperResult(o, "rl2").has_value());  // the paper did not run it
+  o.config_dir = Scratch("published");
+  EXPECT_FALSE(PaperResult(o, "maml").has_value());  // no file
+  std::filesystem::create_directories(o.config_dir / "published");
+  std::ofstream(PublishedResultsFile(o)) << "complex:\n  maml: {mean_reward: 1.5, success: 0.25}\n";
+  ASSERT_TRUE(PaperResult(o, "maml").has_value());
+  EXPECT_DOUBLE_EQ(PaperResult(o, "maml")->success, 0.25);
+  std::ofstream(PublishedResultsFile(o)) << "complex:\n  maml: {mean_reward: high}\n";
+  try {
+    PaperResult(o, "maml");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("complex.maml"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -4,7 +4,7 @@
 // checkpoint, never an exception of another type, undefined behaviour, a
 // stack overflow or a read outside the checkpoint. The hostile cases are the
 // fuzz_checkpoint findings (fuzz/checkpoint_fuzz.cc, docs/reliability.md).
-#include "manyworlds/experiments/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>

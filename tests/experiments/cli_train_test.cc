@@ -1,22 +1,22 @@
 // Runs the built `manyworlds` program (MANYWORLDS_CLI_PATH): train with a
 // tiny config writes every run-directory file, eval reads it back, resume
 // continues, and bad input gives one error line and the documented exit code.
+#include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <cstdio>
-#include <thread>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-
+#include "manyworlds/experiments/algorithms.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/scratch_dir.h"
 
@@ -417,6 +417,32 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
     EXPECT_EQ(r.exit_code, 2) << bad;
     EXPECT_TRUE(IsOneErrorLine(r.err)) << bad << ": " << r.err;
   }
+}
+
+// `bench agent` times every registered algorithm through its registry row,
+// and names them all when asked for another.
+TEST(CliTrainTest, BenchAgentRunsEveryRegisteredAlgorithm) {
+  const fs::path dir = ScratchDir();
+  for (const experiments::AlgorithmInfo& info : experiments::Algorithms()) {
+    const RunResult r = RunCli("bench agent --algo " + info.name +
+                                   " --json --hidden 16 --layers 1 --batch 32 --minibatch 16"
+                                   " --trial-length 20 --updates 1 --repeats 1",
+                               dir);
+    ASSERT_EQ(r.exit_code, 0) << info.name << "\n" << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j.at("agent"), info.name);
+    const double rate = j.contains("updates_per_s") ? j["updates_per_s"].get<double>()
+                                                    : j.at("samples_per_s").get<double>();
+    EXPECT_GT(rate, 0.0) << info.name;
+    EXPECT_TRUE(j.contains("unit") || j.contains("samples")) << info.name;
+  }
+  const RunResult bad = RunCli("bench agent --algo te-ppo", dir);
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_TRUE(IsOneErrorLine(bad.err)) << bad.err;
+  EXPECT_NE(bad.err.find("--algo: unknown algorithm 'te-ppo'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("allowed: " + experiments::AlgorithmNames()), std::string::npos)
+      << bad.err;
+  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 //  - MT-SAC and multi-head SAC solve three point-nav goals that no policy
 //    ignoring the task id can: such a policy follows one path for all goals, so its mean return is
 //    at most -H x (mean distance from the goals' geometric median).
+#include <gtest/gtest.h>
+#include <torch/torch.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -13,12 +15,9 @@
 #include <iostream>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <torch/torch.h>
-
-#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/envs/all.h"
-#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
 #include "manyworlds/experiments/trainer.h"
 #include "tests/experiments/scratch_dirs.h"
 
@@ -41,7 +40,8 @@ EvalResult RandomPolicyEval(const TaskSet& tasks, int64_t episodes) {
 // Loads the final learner of a run.
 std::unique_ptr<agents::SacLearner> LoadLearner(const fs::path& run_dir) {
   const RunInfo run = RunInfo::Read(run_dir);
-  auto learner = std::make_unique<agents::SacLearner>(run.config.agent.sac(), 2, 2, run.tasks.size());
+  auto learner = std::make_unique<agents::SacLearner>(run.config.agent.as<agents::SacConfig>(), 2,
+                                                      2, run.tasks.size());
   torch::serialize::InputArchive archive;
   archive.load_from((LatestCheckpoint(run_dir) / "learner.pt").string());
   learner->Load(archive);

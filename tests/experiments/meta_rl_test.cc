@@ -1,22 +1,21 @@
 // The meta-test protocol's phases on a scripted actor, and RL2 end to end:
 // meta-trained on the RL2 paper's bandits, meta-tested on fresh tasks
 // against the classical strategies computed on the same tasks.
+#include <gtest/gtest.h>
+#include <torch/torch.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <torch/torch.h>
-
 #include "manyworlds/agents/actor.h"
 #include "manyworlds/classic/bandit_baselines.h"
+#include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/core/error.h"
-#include "manyworlds/experiments/meta_test_protocol.h"
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/experiments/trainer.h"
 #include "tests/experiments/scratch_dirs.h"
 

@@ -1,20 +1,19 @@
 // The on-policy family end to end through the Trainer: seeded learning runs
 // with real thresholds (small problems, seconds each), exact resume for PPO
 // and TRPO, and the errors a config gets when the algorithm cannot run it.
+#include <gtest/gtest.h>
+#include <torch/torch.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-#include <torch/torch.h>
-
 #include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithms.h"
-#include "manyworlds/experiments/evaluator.h"
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
+#include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/rl/generator.h"
 #include "tests/experiments/scratch_dirs.h"

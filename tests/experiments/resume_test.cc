@@ -1,24 +1,23 @@
 // A run stopped and resumed from a checkpoint gives the same metrics and
 // bit-identical evaluations as one never stopped; bad run directories and
 // corrupt checkpoints fail clearly without touching the logs.
+#include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <csignal>
-
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
+#include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/checkpoint_integrity.h"
-#include "manyworlds/experiments/run_lock.h"
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/run_lock.h"
+#include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/experiments/trainer.h"
 #include "tests/experiments/scratch_dirs.h"
 
@@ -38,10 +37,10 @@ TrainConfig Tiny(const fs::path& run_dir) {
   c.env.num_tasks = 3;
   c.env.envs_per_task = 2;
   c.env.options = {{"horizon", 50}};
-  c.agent.sac().hidden_dim = 32;
-  c.agent.sac().num_layers = 2;
-  c.agent.sac().batch_size = 16;
-  c.agent.sac().disentangled_alpha = true;
+  c.agent.as<agents::SacConfig>().hidden_dim = 32;
+  c.agent.as<agents::SacConfig>().num_layers = 2;
+  c.agent.as<agents::SacConfig>().batch_size = 16;
+  c.agent.as<agents::SacConfig>().disentangled_alpha = true;
   c.replay.capacity = 3000;
   c.experiment.seed = 11;
   c.experiment.steps_per_task = 600;

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <string>
 
+#include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/nn/threads.h"
@@ -24,9 +25,9 @@ TEST(ThreadRecordTest, ResumeRefusesOtherBlasThreadCounts) {
   c.env.id = "point-nav";
   c.env.num_tasks = 2;
   c.env.options = {{"horizon", 50}};
-  c.agent.sac().hidden_dim = 16;
-  c.agent.sac().num_layers = 1;
-  c.agent.sac().batch_size = 16;
+  c.agent.as<agents::SacConfig>().hidden_dim = 16;
+  c.agent.as<agents::SacConfig>().num_layers = 1;
+  c.agent.as<agents::SacConfig>().batch_size = 16;
   c.experiment.steps_per_task = 200;
   c.experiment.warmup_steps = 50;
   c.experiment.eval_every = 100;

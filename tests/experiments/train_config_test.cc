@@ -1,5 +1,6 @@
 #include "manyworlds/experiments/train_config.h"
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -9,11 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include <gtest/gtest.h>
-
+#include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/experiments/task_set.h"
 #include "tests/experiments/scratch_dirs.h"
 
@@ -47,8 +47,8 @@ std::string ErrorOf(const std::function<void()>& f) {
 
 TEST(TrainConfigTest, DefaultsFollowMtrl) {
   TrainConfig c;
-  EXPECT_EQ(c.agent.sac().hidden_dim, 400);
-  EXPECT_EQ(c.agent.sac().num_layers, 3);
+  EXPECT_EQ(c.agent.as<agents::SacConfig>().hidden_dim, 400);
+  EXPECT_EQ(c.agent.as<agents::SacConfig>().num_layers, 3);
   EXPECT_EQ(c.experiment.warmup_steps, 1500);
   EXPECT_EQ(c.replay.capacity, 1000000);
   EXPECT_EQ(c.replay.sampling, "balanced");
@@ -76,11 +76,11 @@ experiment:
                                            "env.options.horizon=20"});
   EXPECT_EQ(c.env.id, "point-nav");
   EXPECT_EQ(c.env.options["horizon"], 20);
-  EXPECT_EQ(c.agent.sac().hidden_dim, 32);
-  EXPECT_EQ(c.agent.sac().num_layers, 1);
-  EXPECT_EQ(c.agent.sac().architecture, "multihead");
-  ASSERT_TRUE(c.agent.sac().target_entropy.has_value());
-  EXPECT_DOUBLE_EQ(*c.agent.sac().target_entropy, -1.5);
+  EXPECT_EQ(c.agent.as<agents::SacConfig>().hidden_dim, 32);
+  EXPECT_EQ(c.agent.as<agents::SacConfig>().num_layers, 1);
+  EXPECT_EQ(c.agent.as<agents::SacConfig>().architecture, "multihead");
+  ASSERT_TRUE(c.agent.as<agents::SacConfig>().target_entropy.has_value());
+  EXPECT_DOUBLE_EQ(*c.agent.as<agents::SacConfig>().target_entropy, -1.5);
   EXPECT_EQ(c.experiment.seed, 7u);
   EXPECT_EQ(c.experiment.steps_per_task, 1000);
   EXPECT_EQ(c.experiment.warmup_steps, 1500);  // default kept
@@ -123,8 +123,10 @@ TEST(TrainConfigTest, UnknownKeysAndBadValuesAreConfigErrors) {
             std::string::npos);
   EXPECT_NE(invalid([](TrainConfig& c) { c.experiment.num_threads = 0; }).find("num_threads"),
             std::string::npos);
-  EXPECT_NE(invalid([](TrainConfig& c) { c.agent.sac().discount = 2; }), "");
-  EXPECT_NE(invalid([](TrainConfig& c) { c.agent.sac().architecture = "transformer"; }), "");
+  EXPECT_NE(invalid([](TrainConfig& c) { c.agent.as<agents::SacConfig>().discount = 2; }), "");
+  EXPECT_NE(
+      invalid([](TrainConfig& c) { c.agent.as<agents::SacConfig>().architecture = "transformer"; }),
+      "");
   EXPECT_NE(invalid([](TrainConfig& c) { c.env.task_states = {{{"goal", 1}}}; })
                 .find("task_states"),
             std::string::npos);

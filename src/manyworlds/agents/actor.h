@@ -13,11 +13,13 @@
 #ifndef MANYWORLDS_AGENTS_ACTOR_H_
 #define MANYWORLDS_AGENTS_ACTOR_H_
 
-#include <cstdint>
-#include <optional>
-#include <vector>
-
 #include <torch/torch.h>
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
 
 namespace manyworlds::agents {
 
@@ -29,16 +31,19 @@ enum class ActMode {
 // Which boundary Reset marks for the envs in its mask.
 enum class ResetScope { kEpisode, kTrial, kTask };
 
-// Per-env state of a stateful actor; feed-forward actors leave it empty.
+// Per-env state of a stateful actor, as named entries each actor chooses for
+// itself (RL2: "hidden", "context"; TE-PPO: "latent"; PEARL: "latent",
+// "context", "history"; MAML: "history", "adapted"), so that a new algorithm
+// adds names, not fields; feed-forward actors leave it empty. Every tensor
+// has the env first (N, ...).
 struct ActorState {
-  torch::Tensor hidden;   // recurrent state (N, H)
-  torch::Tensor latent;   // a task latent per env (N, Z)
-  torch::Tensor context;  // what the actor keeps of past steps (RL2: previous action, reward, done)
-  // Per-step records an adapting actor keeps from Observe (MAML: [obs,
-  // action, reward, ended, valid] rows of (N, D)), and its adapted policy
-  // parameters, one stacked tensor per parameter with the env first (N, ...).
-  std::vector<torch::Tensor> history;
-  std::vector<torch::Tensor> adapted;
+  // What a step may change per env; a protocol that holds some envs still
+  // (the meta-test's waiting envs) keeps these rows as they were.
+  std::map<std::string, torch::Tensor> tensors;
+  // Per-step records and per-parameter stacks (MAML's adapted parameters,
+  // one tensor per parameter); rows a waiting env must not count are marked
+  // by StepOutcome::valid instead.
+  std::map<std::string, std::vector<torch::Tensor>> lists;
   // When set, sampling draws from this generator instead of the learner's:
   // an evaluation protocol seeds its own, so its sampled episodes depend only
   // on its seed and never move the training's random stream.

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/success.h"
 
 namespace manyworlds {
 
@@ -63,7 +64,7 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
       env.Step(action, step_view);
       stats.episode_return += reward;
       ++stats.length;
-      if (success_index >= 0 && info[success_index] > 0.0f) stats.success = 1;
+      if (success_index >= 0 && IsSuccess(info[success_index])) stats.success = 1;
       stats.terminated = terminated;
       stats.truncated = truncated;
       if (terminated || truncated) break;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -42,12 +43,35 @@ std::string Join(const std::vector<std::string>& names) {
 }
 
 void ApplyThreads(const AgentBenchSizes& args) {
-  ApplyThreads(args);
+  if (args.torch_threads > 0 || args.blas_threads > 0) {
+    nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
+  }
 }
 
 double Median(std::vector<double> values) {
   std::sort(values.begin(), values.end());
   return values[values.size() / 2];
+}
+
+// Calls per second of `repeats` timed runs of `updates` calls each, after
+// `warmup` untimed calls.
+std::vector<double> TimeRepeats(const AgentBenchSizes& args, int warmup,
+                                const std::function<void()>& once) {
+  for (int w = 0; w < warmup; ++w) once();
+  std::vector<double> rates;
+  for (int r = 0; r < args.repeats; ++r) {
+    const auto t0 = Clock::now();
+    for (int u = 0; u < args.updates; ++u) once();
+    rates.push_back(args.updates / std::chrono::duration<double>(Clock::now() - t0).count());
+  }
+  return rates;
+}
+
+nlohmann::json ThreadsJson() {
+  const nn::ThreadInfo threads = nn::CurrentThreads();
+  return {{"torch_intra_op", threads.torch_intra_op},
+          {"blas", threads.blas_threads},
+          {"blas_core", threads.blas_core}};
 }
 
 // Rough upper bound of what one update holds at once: inputs and outputs of
@@ -59,14 +83,6 @@ void CheckBenchMemory(const AgentBenchSizes& args, double rows) {
   const double weights = 16.0 * width * args.hidden * (args.layers + 1);
   CheckMemoryEstimate(4.0 * (rows * per_row + weights), "bench agent at these sizes",
                       "--batch, --tasks, --trial-length, --hidden or --obs-dim");
-}
-
-agents::PolicySpaces BenchSpaces(const AgentBenchSizes& args) {
-  agents::PolicySpaces spaces;
-  spaces.obs_dim = args.obs_dim;
-  spaces.action_dim = args.action_dim;
-  spaces.num_tasks = args.tasks;
-  return spaces;
 }
 
 template <class Config>
@@ -85,9 +101,9 @@ Config PolicyGradientBenchConfig(const AgentBenchSizes& args) {
 // Samples per second through an on-policy optimisation on random data: PPO's
 // unit is one epoch (`ppo` set), the others' one whole Update (TRPO: policy
 // step + one value epoch).
-AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& args,
-                                     agents::OnPolicyLearner& learner_ref,
-                                     agents::PpoLearner* ppo, const std::string& unit) {
+AgentBenchResult TimeOnPolicy(const std::string& algo, const AgentBenchSizes& args,
+                              agents::OnPolicyLearner& learner_ref, agents::PpoLearner* ppo,
+                              const std::string& unit) {
   agents::OnPolicyLearner* learner = &learner_ref;
   ApplyThreads(args);
   torch::manual_seed(static_cast<uint64_t>(args.seed));
@@ -107,7 +123,6 @@ AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSi
   }
   rollout.rewards.copy_(torch::randn(rollout.rewards.sizes()));
   rollout.ended.fill_(1.0f);
-  std::vector<double> samples;
   // PPO: one epoch = the unit; TRPO: one whole update (policy step + one value epoch)
   agents::PolicySamples ppo_samples;
   if (ppo != nullptr) {
@@ -121,61 +136,63 @@ AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSi
     ppo_samples.returns = torch::randn({b});
     ppo_samples.episode_steps = torch::zeros({b});
   }
-  auto once = [&] {
+  std::vector<double> samples = TimeRepeats(args, 1, [&] {
     if (ppo != nullptr) {
       ppo->Epoch(ppo_samples);
     } else {
       learner->Update(rollout);
     }
-  };
-  once();  // warm-up
-  for (int r = 0; r < args.repeats; ++r) {
-    const auto t0 = Clock::now();
-    for (int u = 0; u < args.updates; ++u) once();
-    const double s = std::chrono::duration<double>(Clock::now() - t0).count();
-    samples.push_back(static_cast<double>(b) * args.updates / s);
-  }
+  });
+  for (double& s : samples) s *= static_cast<double>(b);
   const double median = Median(samples);
-  const nn::ThreadInfo threads = nn::CurrentThreads();
   AgentBenchResult result;
   result.json = nlohmann::json({{"agent", algo},
-               {"batch", args.batch},
-               {"minibatch", args.minibatch},
-               {"hidden", args.hidden},
-               {"layers", args.layers},
-               {"obs_dim", args.obs_dim},
-               {"action_dim", args.action_dim},
-               {"tasks", args.tasks},
-               {"architecture", args.architecture},
-               {"pcgrad", args.pcgrad},
-               {"unit", unit},
-               {"units_per_repeat", args.updates},
-               {"repeats", args.repeats},
-               {"samples_per_s", median},
-               {"samples", samples},
-               {"threads",
-                {{"torch_intra_op", threads.torch_intra_op},
-                 {"blas", threads.blas_threads},
-                 {"blas_core", threads.blas_core}}}});
+                                {"batch", args.batch},
+                                {"minibatch", args.minibatch},
+                                {"hidden", args.hidden},
+                                {"layers", args.layers},
+                                {"obs_dim", args.obs_dim},
+                                {"action_dim", args.action_dim},
+                                {"tasks", args.tasks},
+                                {"architecture", args.architecture},
+                                {"pcgrad", args.pcgrad},
+                                {"unit", unit},
+                                {"units_per_repeat", args.updates},
+                                {"repeats", args.repeats},
+                                {"samples_per_s", median},
+                                {"samples", samples},
+                                {"threads", ThreadsJson()}});
   std::ostringstream summary;
-  summary << algo << ": " << Fixed(median, 0) << " samples/s (median of "
-            << samples.size() << " repeats), batch " << b << ", minibatch " << args.minibatch
-            << ", " << args.layers << " x " << args.hidden << " tanh, obs " << args.obs_dim
-            << ", action " << args.action_dim << ", " << args.architecture
-            << (args.pcgrad ? " + pcgrad" : "") << "\n";
+  summary << algo << ": " << Fixed(median, 0) << " samples/s (median of " << samples.size()
+          << " repeats), batch " << b << ", minibatch " << args.minibatch << ", " << args.layers
+          << " x " << args.hidden << " tanh, obs " << args.obs_dim << ", action " << args.action_dim
+          << ", " << args.architecture << (args.pcgrad ? " + pcgrad" : "") << "\n";
   result.summary = summary.str();
   return result;
 }
 
 }  // namespace
 
+agents::PolicySpaces BenchSpaces(const AgentBenchSizes& args) {
+  agents::PolicySpaces spaces;
+  spaces.obs_dim = args.obs_dim;
+  spaces.action_dim = args.action_dim;
+  spaces.num_tasks = args.tasks;
+  return spaces;
+}
+
+AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& sizes,
+                                     agents::OnPolicyLearner& learner, const std::string& unit) {
+  CheckBenchMemory(sizes, sizes.batch);
+  return TimeOnPolicy(algo, sizes, learner, nullptr, unit);
+}
+
 AgentBenchResult BenchPpoUpdates(const std::string& algo, const AgentBenchSizes& args) {
   CheckBenchMemory(args, args.batch);
   auto c = PolicyGradientBenchConfig<agents::PpoConfig>(args);
   c.minibatch_size = args.minibatch;
   agents::PpoLearner learner(c, BenchSpaces(args));
-  return TimeOnPolicyUpdates(algo, args, learner, &learner,
-                             "one epoch (policy + value, minibatches)");
+  return TimeOnPolicy(algo, args, learner, &learner, "one epoch (policy + value, minibatches)");
 }
 
 AgentBenchResult BenchTrpoUpdates(const std::string& algo, const AgentBenchSizes& args) {
@@ -184,8 +201,8 @@ AgentBenchResult BenchTrpoUpdates(const std::string& algo, const AgentBenchSizes
   c.vf_minibatch_size = args.minibatch;
   c.vf_epochs = 1;
   agents::TrpoLearner learner(c, BenchSpaces(args));
-  return TimeOnPolicyUpdates(algo, args, learner, nullptr,
-                             "one update (CG policy step + one value epoch)");
+  return TimeOnPolicy(algo, args, learner, nullptr,
+                      "one update (CG policy step + one value epoch)");
 }
 
 AgentBenchResult BenchTePpoUpdates(const std::string& algo, const AgentBenchSizes& args) {
@@ -195,9 +212,9 @@ AgentBenchResult BenchTePpoUpdates(const std::string& algo, const AgentBenchSize
   c.epochs = 1;
   c.inference_epochs = 1;
   agents::TePpoLearner learner(c, BenchSpaces(args));
-  return TimeOnPolicyUpdates(algo, args, learner, nullptr,
-                             "one update (one epoch of policy, encoder, inference network and "
-                             "value)");
+  return TimeOnPolicy(algo, args, learner, nullptr,
+                      "one update (one epoch of policy, encoder, inference network and "
+                      "value)");
 }
 
 namespace {
@@ -224,39 +241,41 @@ AgentBenchResult TimeTrialUpdates(const std::string& algo, const AgentBenchSizes
   rollout.ended.zero_();
   rollout.ended[t_len - 1].fill_(1.0f);
   if (halves) rollout.ended[t_len / 2 - 1].fill_(1.0f);
-  learner->Update(rollout);  // warm-up
-  std::vector<double> rates;
-  for (int r = 0; r < args.repeats; ++r) {
-    const auto t0 = Clock::now();
-    for (int u = 0; u < args.updates; ++u) learner->Update(rollout);
-    const double sec = std::chrono::duration<double>(Clock::now() - t0).count();
-    rates.push_back(args.updates / sec);
-  }
+  const std::vector<double> rates = TimeRepeats(args, 1, [&] { learner->Update(rollout); });
   const double median = Median(rates);
-  const nn::ThreadInfo threads = nn::CurrentThreads();
   AgentBenchResult result;
   result.json = nlohmann::json({{"agent", algo},
-               {"trials", n},
-               {"trial_length", t_len},
-               {"minibatch", args.minibatch},
-               {"hidden", args.hidden},
-               {"layers", args.layers},
-               {"obs_dim", args.obs_dim},
-               {"action_dim", args.action_dim},
-               {"unit", unit},
-               {"updates_per_s", median},
-               {"samples_per_s", median * static_cast<double>(n * t_len)},
-               {"updates", rates},
-               {"threads",
-                {{"torch_intra_op", threads.torch_intra_op},
-                 {"blas", threads.blas_threads},
-                 {"blas_core", threads.blas_core}}}});
+                                {"trials", n},
+                                {"trial_length", t_len},
+                                {"minibatch", args.minibatch},
+                                {"hidden", args.hidden},
+                                {"layers", args.layers},
+                                {"obs_dim", args.obs_dim},
+                                {"action_dim", args.action_dim},
+                                {"unit", unit},
+                                {"updates_per_s", median},
+                                {"samples_per_s", median * static_cast<double>(n * t_len)},
+                                {"updates", rates},
+                                {"threads", ThreadsJson()}});
   std::ostringstream summary;
   summary << algo << ": " << Fixed(median, 2) << " updates/s ("
-            << Fixed(median * static_cast<double>(n * t_len), 0) << " samples/s), " << n
-            << " trials of " << t_len << " steps; " << unit << "\n";
+          << Fixed(median * static_cast<double>(n * t_len), 0) << " samples/s), " << n
+          << " trials of " << t_len << " steps; " << unit << "\n";
   result.summary = summary.str();
   return result;
+}
+
+// A meta-learner's config with the sizes of the benchmark, its learner, and
+// its update on random trials.
+template <class Learner, class Config>
+AgentBenchResult BenchTrials(const std::string& algo, const AgentBenchSizes& args, Config c,
+                             bool halves, const std::string& unit) {
+  CheckBenchMemory(args, static_cast<double>(args.batch) * args.trial_length);
+  c.hidden_dim = args.hidden;
+  if constexpr (requires { c.num_layers; }) c.num_layers = args.layers;
+  c.seed = args.seed;
+  Learner learner(c, BenchSpaces(args));
+  return TimeTrialUpdates(algo, args, learner, halves, unit);
 }
 
 }  // namespace
@@ -264,31 +283,22 @@ AgentBenchResult TimeTrialUpdates(const std::string& algo, const AgentBenchSizes
 // RL2's update: one PPO epoch over whole trials (GRU unrolled,
 // backpropagation through time, baseline fit, GAE).
 AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes& args) {
-  CheckBenchMemory(args, static_cast<double>(args.batch) * args.trial_length);
   agents::Rl2Config c;
-  c.hidden_dim = args.hidden;
   c.epochs = 1;
   c.minibatch_trials = args.minibatch;
   c.episodes_per_trial = 1;
-  c.seed = args.seed;
-  agents::Rl2Learner learner(c, BenchSpaces(args));
-  return TimeTrialUpdates(algo, args, learner, false,
-                          "one PPO epoch over the trials (minibatches of --minibatch trials)");
+  return BenchTrials<agents::Rl2Learner>(
+      algo, args, c, false, "one PPO epoch over the trials (minibatches of --minibatch trials)");
 }
 
 // MAML's outer TRPO step: inner steps with create_graph, CG on Fisher-vector
 // products through them, one line-search candidate.
 AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& args) {
-  CheckBenchMemory(args, static_cast<double>(args.batch) * args.trial_length);
   agents::MamlConfig c;
-  c.hidden_dim = args.hidden;
-  c.num_layers = args.layers;
   c.episodes_per_task = 1;
   c.max_backtracks = 1;  // one candidate: the same work on every update
-  c.seed = args.seed;
-  agents::MamlLearner learner(c, BenchSpaces(args));
-  return TimeTrialUpdates(algo, args, learner, true,
-                          "one outer TRPO step (10 CG iterations, one line-search candidate)");
+  return BenchTrials<agents::MamlLearner>(
+      algo, args, c, true, "one outer TRPO step (10 CG iterations, one line-search candidate)");
 }
 
 // PEARL's update on random per-task batches: --tasks tasks (the
@@ -319,38 +329,30 @@ AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSize
   };
   const agents::Batch context = random_batch(int64_t{args.tasks} * args.minibatch);
   const agents::Batch rl = random_batch(int64_t{args.tasks} * args.batch);
-  for (int w = 0; w < 3; ++w) learner.Update(context, rl, args.tasks);  // warm-up
-  std::vector<double> rates;
-  for (int r = 0; r < args.repeats; ++r) {
-    const auto t0 = Clock::now();
-    for (int u = 0; u < args.updates; ++u) learner.Update(context, rl, args.tasks);
-    rates.push_back(args.updates / std::chrono::duration<double>(Clock::now() - t0).count());
-  }
+  const std::vector<double> rates =
+      TimeRepeats(args, 3, [&] { learner.Update(context, rl, args.tasks); });
   const double median = Median(rates);
-  const nn::ThreadInfo threads = nn::CurrentThreads();
   AgentBenchResult result;
-  result.json = nlohmann::json({{"agent", algo},
-               {"tasks", args.tasks},
-               {"batch", args.batch},
-               {"context", args.minibatch},
-               {"hidden", args.hidden},
-               {"layers", args.layers},
-               {"obs_dim", args.obs_dim},
-               {"action_dim", args.action_dim},
-               {"unit", "one update (encoder + KL, twin Q, V and target V, policy)"},
-               {"updates_per_s", median},
-               {"ms_per_update", 1000.0 / median},
-               {"updates", rates},
-               {"threads",
-                {{"torch_intra_op", threads.torch_intra_op},
-                 {"blas", threads.blas_threads},
-                 {"blas_core", threads.blas_core}}}});
+  result.json =
+      nlohmann::json({{"agent", algo},
+                      {"tasks", args.tasks},
+                      {"batch", args.batch},
+                      {"context", args.minibatch},
+                      {"hidden", args.hidden},
+                      {"layers", args.layers},
+                      {"obs_dim", args.obs_dim},
+                      {"action_dim", args.action_dim},
+                      {"unit", "one update (encoder + KL, twin Q, V and target V, policy)"},
+                      {"updates_per_s", median},
+                      {"ms_per_update", 1000.0 / median},
+                      {"updates", rates},
+                      {"threads", ThreadsJson()}});
   std::ostringstream summary;
   summary << algo << ": " << Fixed(median, 1) << " updates/s, " << Fixed(1000.0 / median, 2)
-            << " ms/update (median of " << rates.size() << " repeats of " << args.updates
-            << "); " << args.tasks << " tasks x (" << args.batch << " RL + " << args.minibatch
-            << " context) transitions, " << args.layers << " x " << args.hidden << ", obs "
-            << args.obs_dim << ", action " << args.action_dim << "\n";
+          << " ms/update (median of " << rates.size() << " repeats of " << args.updates << "); "
+          << args.tasks << " tasks x (" << args.batch << " RL + " << args.minibatch
+          << " context) transitions, " << args.layers << " x " << args.hidden << ", obs "
+          << args.obs_dim << ", action " << args.action_dim << "\n";
   result.summary = summary.str();
   return result;
 }
@@ -385,40 +387,39 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
   const nn::ThreadInfo threads = nn::CurrentThreads();
   AgentBenchResult result;
   result.json = nlohmann::json({{"agent", algo},
-               {"architecture", args.architecture},
-               {"pcgrad", args.pcgrad},
-               {"disentangled_alpha", args.disentangled_alpha},
-               {"batch", args.batch},
-               {"hidden", args.hidden},
-               {"layers", args.layers},
-               {"obs_dim", args.obs_dim},
-               {"action_dim", args.action_dim},
-               {"tasks", args.tasks},
-               {"updates_per_repeat", args.updates},
-               {"repeats", args.repeats},
-               {"updates_per_s", r.updates_per_s},
-               {"ms_per_update", 1000.0 / r.updates_per_s},
-               {"samples", r.samples},
-               {"update_shards", args.shards},
-               {"update_threads", r.update_threads},
-               {"threads",
-                {{"torch_intra_op", threads.torch_intra_op},
-                 {"torch_inter_op", threads.torch_inter_op},
-                 {"blas", threads.blas_threads},
-                 {"blas_core", threads.blas_core},
-                 {"blas_library", threads.blas}}}});
+                                {"architecture", args.architecture},
+                                {"pcgrad", args.pcgrad},
+                                {"disentangled_alpha", args.disentangled_alpha},
+                                {"batch", args.batch},
+                                {"hidden", args.hidden},
+                                {"layers", args.layers},
+                                {"obs_dim", args.obs_dim},
+                                {"action_dim", args.action_dim},
+                                {"tasks", args.tasks},
+                                {"updates_per_repeat", args.updates},
+                                {"repeats", args.repeats},
+                                {"updates_per_s", r.updates_per_s},
+                                {"ms_per_update", 1000.0 / r.updates_per_s},
+                                {"samples", r.samples},
+                                {"update_shards", args.shards},
+                                {"update_threads", r.update_threads},
+                                {"threads",
+                                 {{"torch_intra_op", threads.torch_intra_op},
+                                  {"torch_inter_op", threads.torch_inter_op},
+                                  {"blas", threads.blas_threads},
+                                  {"blas_core", threads.blas_core},
+                                  {"blas_library", threads.blas}}}});
   std::ostringstream summary;
-  summary << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "") << ", "
-            << args.tasks << " task" << (args.tasks == 1 ? "" : "s") << "): "
-            << Fixed(r.updates_per_s, 1) << " updates/s, " << Fixed(1000.0 / r.updates_per_s, 2)
-            << " ms/update (median of " << r.samples.size() << " repeats of " << args.updates
-            << " updates)\nbatch " << args.batch << ", " << args.layers << " x " << args.hidden
-            << ", obs " << args.obs_dim << ", action " << args.action_dim
-            << "\nshards: " << args.shards << " on " << r.update_threads << " thread"
-            << (r.update_threads == 1 ? "" : "s") << "; torch intra-op " << threads.torch_intra_op << ", inter-op "
-            << threads.torch_inter_op << "; BLAS "
-            << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
-            << " (" << threads.blas << "; kernels " << threads.blas_core << ")\nsamples:";
+  summary << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "") << ", " << args.tasks
+          << " task" << (args.tasks == 1 ? "" : "s") << "): " << Fixed(r.updates_per_s, 1)
+          << " updates/s, " << Fixed(1000.0 / r.updates_per_s, 2) << " ms/update (median of "
+          << r.samples.size() << " repeats of " << args.updates << " updates)\nbatch " << args.batch
+          << ", " << args.layers << " x " << args.hidden << ", obs " << args.obs_dim << ", action "
+          << args.action_dim << "\nshards: " << args.shards << " on " << r.update_threads
+          << " thread" << (r.update_threads == 1 ? "" : "s") << "; torch intra-op "
+          << threads.torch_intra_op << ", inter-op " << threads.torch_inter_op << "; BLAS "
+          << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
+          << " (" << threads.blas << "; kernels " << threads.blas_core << ")\nsamples:";
   for (double s : r.samples) summary << " " << Fixed(s, 1);
   summary << "\n";
   result.summary = summary.str();

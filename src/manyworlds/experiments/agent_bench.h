@@ -5,9 +5,11 @@
 #define MANYWORLDS_EXPERIMENTS_AGENT_BENCH_H_
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include "manyworlds/agents/learner.h"
+#include "manyworlds/agents/policy_gradient/policy_gradient.h"
 
 namespace manyworlds::experiments {
 
@@ -49,6 +51,26 @@ AgentBenchResult BenchTePpoUpdates(const std::string& algo, const AgentBenchSize
 AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+
+// Any on-policy learner's whole Update on a random one-step rollout of
+// --batch envs (samples per second), for `learner` built by the caller.
+AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& sizes,
+                                     agents::OnPolicyLearner& learner, const std::string& unit);
+agents::PolicySpaces BenchSpaces(const AgentBenchSizes& sizes);
+
+// The bench of an on-policy algorithm without one of its own: its default
+// config (seeded, with --hidden and --layers where it has those keys), one
+// whole Update per unit. A new algorithm's registry row can name
+// &BenchOnPolicyUpdates<MyLearner, MyConfig>.
+template <class Learner, class Config>
+AgentBenchResult BenchOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& sizes) {
+  Config c;
+  c.seed = sizes.seed;
+  if constexpr (requires { c.hidden_dim; }) c.hidden_dim = sizes.hidden;
+  if constexpr (requires { c.num_layers; }) c.num_layers = sizes.layers;
+  Learner learner(c, BenchSpaces(sizes));
+  return TimeOnPolicyUpdates(algo, sizes, learner, "one update (the config's defaults)");
+}
 
 }  // namespace manyworlds::experiments
 

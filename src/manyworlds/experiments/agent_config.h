@@ -7,12 +7,11 @@
 #define MANYWORLDS_EXPERIMENTS_AGENT_CONFIG_H_
 
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
-
-#include <nlohmann/json.hpp>
 
 #include "manyworlds/config/reader.h"
 #include "manyworlds/core/error.h"

@@ -13,11 +13,10 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-
 #include <nlohmann/json.hpp>
 
 #include "manyworlds/agents/actor.h"
-#include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/loops/collector.h"
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {

@@ -1,28 +1,21 @@
-// The algorithm registry: every algorithm `agent.algo` can name, with its
-// family and config. An explicit list (algorithms.cc), in documentation
-// order; unknown names are errors that list the valid ones.
-//
-//   name   family      config                       learner
-//   sac    off-policy  agents/sac_config.h          agents/sac.h (MT-SAC, multi-head,
-//                                                   task encoder, CARE, PCGrad)
-//   ppo    on-policy   agents/ppo/ppo_config.h      agents/ppo/ppo.h (PPO, MT-PPO)
-//   trpo   on-policy   agents/trpo/trpo_config.h    agents/trpo/trpo.h (TRPO, MT-TRPO)
-//   te_ppo on-policy   agents/te_ppo/te_ppo_config.h agents/te_ppo/te_ppo.h (TE-PPO)
-//   rl2    on-policy   agents/rl2/rl2_config.h      agents/rl2/rl2.h (RL2-PPO, trials)
-//   maml   on-policy   agents/maml/maml_config.h    agents/maml/maml.h (MAML-TRPO, trials)
-//   pearl  off-policy  agents/pearl/pearl_config.h  agents/pearl/pearl.h (PEARL, per-task
-//                                                   replay; loop in pearl_loop.cc)
-//
-// This header is torch-free: configs can be read, printed and validated
-// without the networks. MakeAlgorithm (algorithm.h) builds the learner.
+// The algorithm registry: the one list of the algorithms `agent.algo` can
+// name (algorithms.cc). A row gives an algorithm's name, family, the action
+// spaces it accepts, a description, its config type (default config, read,
+// printed and validated through the config's VisitFields), the factory of its
+// training loop and its update benchmark. Everything else that names
+// algorithms (errors, --help, `bench agent`, the docs table) derives from the
+// rows. Adding an algorithm: a folder under agents/ and one row
+// (docs/contributing.md).
 #ifndef MANYWORLDS_EXPERIMENTS_ALGORITHMS_H_
 #define MANYWORLDS_EXPERIMENTS_ALGORITHMS_H_
 
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "manyworlds/experiments/agent_bench.h"
+#include "manyworlds/experiments/agent_config.h"
 #include "manyworlds/experiments/task_set.h"
 #include "manyworlds/experiments/train_config.h"
 
@@ -30,17 +23,29 @@ namespace manyworlds::experiments {
 
 enum class AlgorithmFamily { kOffPolicy, kOnPolicy };
 
+class Algorithm;
+struct AlgorithmSetup;
+using AlgorithmFactory = std::unique_ptr<Algorithm> (*)(const AlgorithmSetup& setup);
+
 struct AlgorithmInfo {
   std::string name;
   AlgorithmFamily family;
   bool discrete_actions;  // accepts Discrete action spaces
   bool box_actions;       // accepts Box action spaces
   std::string description;
+  std::unique_ptr<AgentParams> (*default_config)();  // the config type, with its defaults
+  AlgorithmFactory make;                             // its training loop (algorithm.h)
+  AgentBench bench;                                  // `bench agent` (agent_bench.h)
 };
 
 const std::vector<AlgorithmInfo>& Algorithms();
 // ConfigError naming the valid algorithms (and the nearest one) if unknown.
 const AlgorithmInfo& FindAlgorithm(const std::string& name);
+// nullptr if unknown.
+const AlgorithmInfo* LookupAlgorithm(const std::string& name);
+// "<key>: unknown algorithm 'x' (did you mean ...); allowed: ..." (the error
+// of FindAlgorithm, with another key, e.g. a command-line flag).
+std::string UnknownAlgorithm(const std::string& key, const std::string& name);
 // The registered names, comma-separated in registry order (help texts and errors).
 std::string AlgorithmNames();
 const char* FamilyName(AlgorithmFamily family);

@@ -192,4 +192,17 @@ EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
   return facts;
 }
 
+EnvFacts CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train,
+                        const Registry& registry) {
+  const EnvFacts eval = InspectEnvs(eval_tasks, registry);
+  if (eval.obs_dim != train.obs_dim || eval.action_dim != train.action_dim ||
+      eval.num_actions != train.num_actions) {
+    throw ConfigError("eval_env: its tasks' observation or action spaces differ from env's (obs " +
+                      std::to_string(eval.obs_dim) + " vs " + std::to_string(train.obs_dim) +
+                      ", action " + std::to_string(eval.action_dim) + " vs " +
+                      std::to_string(train.action_dim) + ")");
+  }
+  return eval;
+}
+
 }  // namespace manyworlds::experiments

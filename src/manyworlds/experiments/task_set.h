@@ -76,6 +76,10 @@ struct EnvFacts {
 // algorithm accepts is the algorithm's check (algorithms.h).
 EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry);
 
+// The held-out tasks' facts; ConfigError unless they present the spaces the
+// policy was trained on (`train`).
+EnvFacts CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry);
+
 }  // namespace manyworlds::experiments
 
 #endif  // MANYWORLDS_EXPERIMENTS_TASK_SET_H_

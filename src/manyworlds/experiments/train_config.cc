@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/config/override.h"
 #include "manyworlds/config/reader.h"
 #include "manyworlds/config/yaml.h"
@@ -200,7 +201,8 @@ nlohmann::json TrainConfig::ToJson() const {
 }
 
 int64_t TrainConfig::TotalBatchSize(int64_t num_tasks) const {
-  return experiment.batch_size > 0 ? experiment.batch_size : agent.sac().batch_size * num_tasks;
+  return experiment.batch_size > 0 ? experiment.batch_size
+                                   : agent.as<agents::SacConfig>().batch_size * num_tasks;
 }
 
 // Upper bounds: every count the loops multiply stays far from int64

@@ -31,12 +31,11 @@
 //     trials_per_task: 10       # variations tried per held-out task
 //     sample_evaluation: false  # evaluation episodes sample instead of the mode
 //   agent:
-//     algo: sac            # the algorithm (experiments/algorithms.h lists them:
-//                          # sac, ppo, trpo, te_ppo, rl2, maml, pearl); the other keys are that
-//                          # algorithm's config (agents/sac_config.h,
-//                          # agents/ppo/ppo_config.h, agents/trpo/trpo_config.h,
-//                          # agents/te_ppo/te_ppo_config.h),
-//                          # e.g. hidden_dim, actor_lr, architecture, pcgrad;
+//     algo: sac            # the algorithm: a row of the registry
+//                          # (experiments/algorithms.cc; `manyworlds train --help`
+//                          # lists them); the other keys are that algorithm's
+//                          # config (agents/<algo>/<algo>_config.h), e.g.
+//                          # hidden_dim, actor_lr, architecture, pcgrad;
 //                          # agent.seed is mixed with experiment.seed
 //   replay:                # off-policy algorithms (sac, pearl) only
 //     capacity: 1000000    # transitions, split evenly per task (pearl: per task
@@ -48,14 +47,12 @@
 //     warmup_steps: 1500       # off-policy: uniform random actions first (per env);
 //                              # pearl: collection with prior z only, no updates
 //     updates_per_step: 1.0    # off-policy: gradient updates per loop step (all envs)
-//     batch_size: 0            # off-policy: transitions per update; 0 = agent.batch_size x num_tasks
-//     eval_every: 10000        # env steps per task; 0 = only at the end
-//     eval_episodes: 10        # per task
-//     num_threads: 1           # executor worker threads
-//     checkpoint_every: 50000  # env steps per task; 0 = only at the end
-//     keep_checkpoints: 1      # newest checkpoints kept (0 = all)
-//     run_dir: runs/train
-//     init_from: ""            # a checkpoint directory whose learner a new run
+//     batch_size: 0            # off-policy: transitions per update; 0 = agent.batch_size x
+//     num_tasks eval_every: 10000        # env steps per task; 0 = only at the end eval_episodes:
+//     10        # per task num_threads: 1           # executor worker threads checkpoint_every:
+//     50000  # env steps per task; 0 = only at the end keep_checkpoints: 1      # newest
+//     checkpoints kept (0 = all) run_dir: runs/train init_from: ""            # a checkpoint
+//     directory whose learner a new run
 //                              # starts from (fine-tuning); same algorithm and
 //                              # network sizes; "" = fresh networks
 //
@@ -74,22 +71,13 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "manyworlds/core/error.h"
-
-#include "manyworlds/agents/maml/maml_config.h"
-#include "manyworlds/agents/pearl/pearl_config.h"
-#include "manyworlds/agents/ppo/ppo_config.h"
-#include "manyworlds/agents/rl2/rl2_config.h"
-#include "manyworlds/agents/sac_config.h"
-#include "manyworlds/agents/te_ppo/te_ppo_config.h"
-#include "manyworlds/agents/trpo/trpo_config.h"
+#include "manyworlds/experiments/agent_config.h"
 #include "manyworlds/experiments/task_set.h"
 
 namespace manyworlds::experiments {
@@ -113,30 +101,6 @@ struct ExperimentSectionConfig {
   int64_t keep_checkpoints = 1;
   std::string run_dir = "runs/train";
   std::string init_from;  // checkpoint directory to start a new run from ("" none)
-};
-
-// The agent section: one algorithm's typed config. The variant's
-// alternatives are the algorithm registry's configs (algorithms.h).
-struct AgentConfig {
-  std::variant<agents::SacConfig, agents::PpoConfig, agents::TrpoConfig, agents::TePpoConfig,
-               agents::Rl2Config, agents::MamlConfig, agents::PearlConfig>
-      params;
-
-  // The registry name of the algorithm ("sac", "ppo", "trpo", "te_ppo", "rl2", "maml",
-  // "pearl").
-  std::string algo() const;
-  // The typed config; ConfigError if the agent is another algorithm.
-  template <class C>
-  C& as() {
-    if (C* c = std::get_if<C>(&params)) return *c;
-    throw ConfigError("the agent is '" + algo() + "', not the algorithm this code expects");
-  }
-  template <class C>
-  const C& as() const {
-    return const_cast<AgentConfig*>(this)->as<C>();
-  }
-  agents::SacConfig& sac() { return as<agents::SacConfig>(); }
-  const agents::SacConfig& sac() const { return as<agents::SacConfig>(); }
 };
 
 // The meta-test protocol's settings. Defaults: Meta-World v3's

@@ -1,34 +1,26 @@
 #include "manyworlds/experiments/trainer.h"
 
-#include <fcntl.h>
-#include <unistd.h>
+#include <torch/torch.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include <torch/torch.h>
-
 #include "manyworlds/core/atomic_file.h"
-#include "manyworlds/config/yaml.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/algorithms.h"
-#include "manyworlds/experiments/checkpoint_integrity.h"
-#include "manyworlds/experiments/meta_test_protocol.h"
-#include "manyworlds/experiments/collector.h"
-#include "manyworlds/experiments/run_lock.h"
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/loops/collector.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/run_dir.h"
+#include "manyworlds/experiments/run/run_lock.h"
+#include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/nn/threads.h"
 
 namespace manyworlds::experiments {
@@ -43,40 +35,10 @@ constexpr uint64_t kTorchStream = 0x746f726368;  // "torch"
 
 constexpr char kCheckpointFormat[] = "manyworlds-train-checkpoint";
 constexpr int kCheckpointVersion = 1;
-constexpr char kLatestFile[] = "latest";
-
 
 // True when a multiple of `every` lies in (prev, step].
 bool Due(int64_t prev, int64_t step, int64_t every) {
   return every > 0 && step / every != prev / every;
-}
-
-std::string CheckpointName(int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "step_%012lld", static_cast<long long>(step));
-  return name;
-}
-
-// Makes a written file (or a directory's entries) durable; Error naming the
-// path if the kernel reports a write-back failure (EIO, ENOSPC).
-void FsyncPath(const fs::path& path, bool directory) {
-  const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
-  if (fd < 0) throw Error("cannot open '" + path.string() + "' to sync it: " + std::strerror(errno));
-  const int synced = ::fsync(fd);
-  const int error = errno;
-  ::close(fd);
-  // directories on some file systems refuse fsync (EINVAL): nothing to report there
-  if (synced != 0 && !(directory && error == EINVAL)) {
-    throw Error("cannot sync '" + path.string() + "': " + std::strerror(error));
-  }
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 nlohmann::json OptionalEval(const std::optional<EvalResult>& eval) {
@@ -102,19 +64,6 @@ std::optional<EvalResult> EvalFromJson(const nlohmann::json& json) {
   return r;
 }
 
-// "checkpoint 'D' was written with B BLAS thread(s) and T torch thread(s);
-// this process has ..." where the counts in a checkpoint's thread record
-// differ from this process's; nothing when they agree.
-std::optional<std::string> ThreadCountMismatch(const fs::path& dir, const nlohmann::json& saved,
-                                               const nn::ThreadInfo& now) {
-  const int64_t torch_then = saved.value("torch_intra_op", int64_t{-1});
-  const int64_t blas_then = saved.value("blas_threads", int64_t{-1});
-  if (torch_then == now.torch_intra_op && blas_then == now.blas_threads) return std::nullopt;
-  return "checkpoint '" + dir.string() + "' was written with " + std::to_string(blas_then) +
-         " BLAS thread(s) and " + std::to_string(torch_then) + " torch thread(s); this process has " +
-         std::to_string(now.blas_threads) + " and " + std::to_string(now.torch_intra_op);
-}
-
 }  // namespace
 
 nlohmann::json TrainSummary::ToJson() const {
@@ -127,171 +76,6 @@ nlohmann::json TrainSummary::ToJson() const {
           {"final_eval", OptionalEval(final_eval)},
           {"final_meta_test", final_meta_test ? *final_meta_test : nlohmann::json(nullptr)},
           {"final_meta_train", final_meta_train ? *final_meta_train : nlohmann::json(nullptr)}};
-}
-
-fs::path LatestCheckpoint(const fs::path& run_dir) { return ChooseCheckpoint(run_dir).dir; }
-
-std::optional<std::string> EvaluationThreadWarning(const fs::path& checkpoint) {
-  try {
-    const nlohmann::json state = nlohmann::json::parse(ReadText(checkpoint / "state.json"));
-    if (!state.is_object() || !state.contains("threads") || !state["threads"].is_object()) {
-      return std::nullopt;  // older checkpoints
-    }
-    const nlohmann::json& saved = state["threads"];
-    const auto mismatch = ThreadCountMismatch(checkpoint, saved, nn::CurrentThreads());
-    if (!mismatch) return std::nullopt;
-    return *mismatch + ": the numbers may differ from the run's own evaluations in the "
-           "rounding, and sampled episodes then diverge; OPENBLAS_NUM_THREADS=" +
-           std::to_string(saved.value("blas_threads", int64_t{-1})) + " reproduces them";
-  } catch (const std::exception&) {
-    return std::nullopt;  // a damaged checkpoint is the evaluation's error to report
-  }
-}
-
-RunInfo RunInfo::Read(const fs::path& run_dir) {
-  const RunPaths paths{run_dir};
-  if (!fs::is_directory(run_dir)) {
-    throw ConfigError("run directory '" + run_dir.string() + "' does not exist");
-  }
-  if (!fs::exists(paths.config()) || !fs::exists(paths.tasks())) {
-    throw ConfigError("'" + run_dir.string() +
-                      "' is not a run directory (no config.yaml and tasks.json)");
-  }
-  RunInfo info;
-  info.config = TrainConfig::Load(paths.config());
-  info.config.Validate();
-  const auto tasks = nlohmann::json::parse(ReadText(paths.tasks()), nullptr, false);
-  if (tasks.is_discarded()) throw Error(paths.tasks().string() + ": not valid JSON");
-  try {
-    info.tasks = TaskSet::FromJson(tasks);
-  } catch (const Error& e) {
-    throw Error(paths.tasks().string() + ": " + e.what());
-  }
-  if (info.config.eval_env) {
-    const auto eval_tasks = nlohmann::json::parse(ReadText(paths.eval_tasks()), nullptr, false);
-    if (eval_tasks.is_discarded()) throw Error(paths.eval_tasks().string() + ": not valid JSON");
-    try {
-      info.eval_tasks = TaskSet::FromJson(eval_tasks);
-    } catch (const Error& e) {
-      throw Error(paths.eval_tasks().string() + ": " + e.what());
-    }
-  }
-  return info;
-}
-
-namespace {
-
-// The step a checkpoint was taken at; Error naming the file if unreadable.
-int64_t CheckpointStep(const fs::path& checkpoint) {
-  const auto state = nlohmann::json::parse(ReadText(checkpoint / "state.json"), nullptr, false);
-  if (state.is_object() && state.contains("step") && state["step"].is_number_integer() &&
-      state["step"].get<int64_t>() >= 0) {
-    return state["step"].get<int64_t>();
-  }
-  throw Error("checkpoint '" + checkpoint.string() + "': state.json has no valid step");
-}
-
-// Removes what a killed writer left behind: hidden `.NAME.tmp.XXXXXX` files
-// (AtomicWriteFile) in the run and checkpoint directories and partial
-// `.tmp_step_*` checkpoints. Only under the run's lock: no writer is alive.
-void RemoveStaleTemporaries(const fs::path& run_dir) {
-  for (const fs::path& dir : {run_dir, RunPaths{run_dir}.checkpoints()}) {
-    std::error_code ec;
-    if (!fs::is_directory(fs::symlink_status(dir, ec))) continue;
-    std::vector<fs::path> stale;
-    for (const auto& entry : fs::directory_iterator(dir, ec)) {
-      const std::string name = entry.path().filename().string();
-      const bool temp_file = name.size() > 1 && name[0] == '.' &&
-                             name.find(".tmp.") != std::string::npos &&
-                             entry.is_regular_file(ec);
-      const bool temp_checkpoint = name.rfind(".tmp_step_", 0) == 0;
-      if (temp_file || temp_checkpoint) stale.push_back(entry.path());
-    }
-    for (const fs::path& p : stale) fs::remove_all(p, ec);
-  }
-}
-
-// Held-out tasks must present the spaces the policy was trained on.
-void CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry) {
-  const EnvFacts eval = InspectEnvs(eval_tasks, registry);
-  if (eval.obs_dim != train.obs_dim || eval.action_dim != train.action_dim ||
-      eval.num_actions != train.num_actions) {
-    throw ConfigError("eval_env: its tasks' observation or action spaces differ from env's (obs " +
-                      std::to_string(eval.obs_dim) + " vs " + std::to_string(train.obs_dim) +
-                      ", action " + std::to_string(eval.action_dim) + " vs " +
-                      std::to_string(train.action_dim) + ")");
-  }
-}
-
-}  // namespace
-
-namespace {
-
-MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
-                             const MetaTestConfig& config, uint64_t seed, bool on_training_tasks) {
-  if (!run.eval_tasks) {
-    throw ConfigError(std::string(on_training_tasks ? "meta-train" : "meta-test") +
-                      " needs held-out tasks, and this run has none: train with an "
-                      "eval_env section (e.g. eval_env: {options: {split: test}} for ML1/ML10, "
-                      "or eval_env: {task_seed: 1} for a sampled task distribution)");
-  }
-  const Registry& registry = DefaultRegistry();
-  const EnvFacts facts = InspectEnvs(run.tasks, registry);
-  CheckEvalTasks(*run.eval_tasks, facts, registry);
-  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
-  algorithm->LoadPolicy(checkpoint);
-  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config,
-                            seed, run.config.experiment.num_threads);
-  MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
-  result.step = CheckpointStep(checkpoint);
-  return result;
-}
-
-}  // namespace
-
-nlohmann::json MetaTestCheckpoint(const RunInfo& run, const fs::path& checkpoint,
-                                  std::optional<uint64_t> seed) {
-  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
-                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTestSeedStream),
-                       /*on_training_tasks=*/false)
-      .ToJson();
-}
-
-nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const fs::path& checkpoint,
-                                   std::optional<uint64_t> seed) {
-  return RunMetaTestOn(run, checkpoint, run.config.meta_test,
-                       seed ? *seed : MixSeed(run.config.experiment.seed, kMetaTrainSeedStream),
-                       /*on_training_tasks=*/true)
-      .ToJson();
-}
-
-MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& checkpoint,
-                                          int64_t trials, uint64_t seed) {
-  MetaTestConfig config = run.config.meta_test;
-  config.trials_per_task = trials;
-  return RunMetaTestOn(run, checkpoint, config, seed, /*on_training_tasks=*/false);
-}
-
-std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
-                                          const EnvFacts& facts) {
-  CheckAlgorithmEnvs(config.agent, facts, tasks);
-  AlgorithmSetup setup{config, facts, tasks, tasks.size(),
-                       tasks.size() * config.env.envs_per_task, facts.episode_length};
-  return MakeAlgorithm(setup);
-}
-
-EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes,
-                              std::optional<uint64_t> seed) {
-  const Registry& registry = DefaultRegistry();
-  const EnvFacts facts = InspectEnvs(run.tasks, registry);
-  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
-  algorithm->LoadPolicy(checkpoint);
-  Evaluator evaluator(run.tasks, registry, episodes,
-                      seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
-                      run.config.experiment.num_threads);
-  EvalResult result = evaluator.Run(algorithm->actor());
-  result.step = CheckpointStep(checkpoint);
-  return result;
 }
 
 struct Trainer::Impl {
@@ -359,15 +143,16 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
                                           config.experiment.num_threads);
   evaluator = std::make_unique<Evaluator>(tasks, registry, config.experiment.eval_episodes,
                                           MixSeed(config.experiment.seed, kEvalSeedStream),
-                                          config.experiment.num_threads);
+                                          config.experiment.num_threads, &facts);
   if (eval_tasks) {
-    CheckEvalTasks(*eval_tasks, facts, registry);
-    meta_test = std::make_unique<MetaTestProtocol>(
-        *eval_tasks, registry, config.meta_test,
-        MixSeed(config.experiment.seed, kMetaTestSeedStream), config.experiment.num_threads);
+    const EnvFacts eval_facts = CheckEvalTasks(*eval_tasks, facts, registry);
+    meta_test =
+        std::make_unique<MetaTestProtocol>(*eval_tasks, registry, config.meta_test,
+                                           MixSeed(config.experiment.seed, kMetaTestSeedStream),
+                                           config.experiment.num_threads, &eval_facts);
     meta_train = std::make_unique<MetaTestProtocol>(
         tasks, registry, config.meta_test, MixSeed(config.experiment.seed, kMetaTrainSeedStream),
-        config.experiment.num_threads);
+        config.experiment.num_threads, &facts);
   }
 }
 
@@ -388,23 +173,6 @@ EvalResult Trainer::Impl::Evaluate() {
 }
 
 fs::path Trainer::Impl::SaveCheckpoint() {
-  const fs::path dir = paths.checkpoints();
-  fs::create_directories(dir);
-  const std::string name = CheckpointName(step);
-  const fs::path final_dir = dir / name;
-  const fs::path tmp = dir / (".tmp_" + name);
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
-  // a failed write (full disk, I/O error) removes the partial checkpoint and
-  // leaves the previous one as the newest: the run resumes from there
-  struct RemoveUnlessDone {
-    const fs::path& dir;
-    bool done = false;
-    ~RemoveUnlessDone() {
-      std::error_code ignored;
-      if (!done) fs::remove_all(dir, ignored);
-    }
-  } cleanup{tmp};
   nlohmann::json state = {
       {"format", kCheckpointFormat},
       {"version", kCheckpointVersion},
@@ -418,37 +186,11 @@ fs::path Trainer::Impl::SaveCheckpoint() {
       {"obs_dim", facts.obs_dim},
       {"action_dim", facts.action_dim},
       {"last_eval", OptionalEval(last_eval)},
+      // the reduction order of products depends on these: resume checks them
+      {"threads", ThreadRecord()},
   };
-  // the reduction order of products depends on these: resume checks them
-  const nn::ThreadInfo threads = nn::CurrentThreads();
-  state["threads"] = {{"torch_intra_op", threads.torch_intra_op},
-                      {"blas_threads", threads.blas_threads},
-                      {"blas_core", threads.blas_core}};
-  algorithm->Save(tmp, state);
-  SealCheckpointState(tmp, paths.dir, state);
-  AtomicWriteFile(tmp / "state.json", state.dump(2) + "\n");
-  for (const auto& entry : fs::directory_iterator(tmp)) FsyncPath(entry.path(), false);
-  FsyncPath(tmp, true);
-  fs::remove_all(final_dir);
-  fs::rename(tmp, final_dir);
-  cleanup.done = true;
-  FsyncPath(dir, true);
-  AtomicWriteFile(dir / kLatestFile, name + "\n");
-
-  // prune older checkpoints beyond keep_checkpoints (never the newest)
-  const int64_t keep = config.experiment.keep_checkpoints;
-  if (keep > 0) {
-    std::vector<fs::path> found;
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string n = entry.path().filename().string();
-      if (entry.is_directory() && n.rfind("step_", 0) == 0) found.push_back(entry.path());
-    }
-    std::sort(found.begin(), found.end());
-    for (size_t i = 0; i + keep < found.size(); ++i) {
-      if (found[i] != final_dir) fs::remove_all(found[i]);
-    }
-  }
-  return final_dir;
+  return WriteCheckpoint(paths.dir, step, config.experiment.keep_checkpoints, std::move(state),
+                         [&](const fs::path& dir, nlohmann::json& s) { algorithm->Save(dir, s); });
 }
 
 // A product's rounding depends on how many threads share it (measured: the
@@ -458,7 +200,7 @@ void Trainer::Impl::CheckThreads(const fs::path& dir, const nlohmann::json& stat
   if (!state.contains("threads") || !state["threads"].is_object()) return;  // older checkpoints
   const nlohmann::json& saved = state["threads"];
   const nn::ThreadInfo now = nn::CurrentThreads();
-  if (const auto mismatch = ThreadCountMismatch(dir, saved, now)) {
+  if (const auto mismatch = ThreadCountMismatch(dir, saved)) {
     throw ConfigError(*mismatch + ", so the resumed numbers would not match an uninterrupted run; "
                       "resume with OPENBLAS_NUM_THREADS=" +
                       std::to_string(saved.value("blas_threads", int64_t{-1})) +
@@ -473,14 +215,7 @@ void Trainer::Impl::CheckThreads(const fs::path& dir, const nlohmann::json& stat
 }
 
 void Trainer::Impl::LoadCheckpoint(const fs::path& dir) {
-  nlohmann::json state;
-  try {
-    state = nlohmann::json::parse(ReadText(dir / "state.json"));
-  } catch (const std::exception& e) {
-    const std::string what = e.what();
-    throw Error("checkpoint '" + dir.string() + "': unreadable state.json: " +
-                what.substr(0, what.find('\n')));
-  }
+  const nlohmann::json state = ReadCheckpointState(dir);
   auto expect = [&](const char* key, int64_t want) {
     if (!state.contains(key) || !state[key].is_number_integer() ||
         state[key].get<int64_t>() != want) {
@@ -620,20 +355,7 @@ Trainer::~Trainer() = default;
 Trainer Trainer::Create(const TrainConfig& config) {
   config.Validate();
   const fs::path run_dir = config.experiment.run_dir;
-  const RunPaths paths{run_dir};
-  auto refuse_existing = [&] {
-    // an empty checkpoints/ without config.yaml is a creation cut short
-    std::error_code ec;
-    const bool empty_checkpoints = fs::is_directory(paths.checkpoints(), ec) &&
-                                   fs::is_empty(paths.checkpoints(), ec) && !ec;
-    if (fs::exists(paths.config()) ||
-        (fs::exists(fs::symlink_status(paths.checkpoints())) && !empty_checkpoints)) {
-      throw ConfigError("run directory '" + run_dir.string() +
-                        "' already holds a run; continue it with `manyworlds train --resume " +
-                        run_dir.string() + "` or choose another experiment.run_dir");
-    }
-  };
-  refuse_existing();
+  RefuseExistingRun(run_dir);
   TaskSet tasks = ResolveTasks(config.env, DefaultRegistry());
   std::optional<TaskSet> held_out;
   if (config.eval_env) {
@@ -660,30 +382,9 @@ Trainer Trainer::Create(const TrainConfig& config) {
                         "' (same algorithm and network sizes needed): " + e.what());
     }
   }
-  // nothing is created before the config has proved runnable
-  std::error_code ec;
-  fs::create_directories(run_dir, ec);
-  if (ec) {
-    throw Error("cannot create run directory '" + run_dir.string() + "': " + ec.message());
-  }
-  // checked again under the lock: of two processes started together, one
-  // writes the run and the other is refused
-  impl->lock = std::make_unique<RunLock>(run_dir);
-  refuse_existing();
-  // config.yaml last: a directory is a run once it has one, so a kill
-  // before it leaves a directory that `train` may simply start again. An
-  // empty checkpoints/ marks a run that has not reached its first checkpoint,
-  // which `train --resume` starts again from step 0 (nothing is lost).
-  if (impl->eval_tasks) {
-    AtomicWriteFile(paths.eval_tasks(), impl->eval_tasks->ToJson().dump(2) + "\n");
-  }
-  AtomicWriteFile(paths.tasks(), impl->tasks.ToJson().dump(2) + "\n");
-  fs::create_directories(paths.checkpoints(), ec);
-  if (ec) {
-    throw Error("cannot create '" + paths.checkpoints().string() + "': " + ec.message());
-  }
-  FsyncPath(run_dir, /*directory=*/true);
-  AtomicWriteFile(paths.config(), DumpYaml(config.ToJson()));
+  // nothing is created before the config has proved runnable; a directory
+  // is a run once it has config.yaml, written last
+  impl->lock = CreateRunDirectory(run_dir, config, impl->tasks, impl->eval_tasks);
   impl->metrics_log = std::make_unique<RunLog>(run_dir, "metrics");
   impl->eval_log = std::make_unique<RunLog>(run_dir, "eval");
   impl->metrics_log->TruncateAfter(0);

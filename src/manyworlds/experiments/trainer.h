@@ -23,16 +23,7 @@
 // continues with the same numbers as one never stopped; metrics rows written
 // after the checkpoint by the stopped process are dropped and written again.
 //
-// Run directory:
-//   config.yaml              resolved configuration
-//   tasks.json               the tasks and their task states
-//   metrics.jsonl / .csv     one row per round (losses, alpha, rates, returns)
-//   eval.jsonl / .csv        one row per evaluation (per-task and mean success, return)
-//   checkpoints/step_<N>/    state.json (counters, algo), learner.pt, and replay.bin
-//                            for off-policy algorithms (written into a temporary
-//                            directory, then renamed)
-//   checkpoints/latest       name of the newest complete checkpoint
-//   summary.json             final evaluation, wall time, rates (when finished)
+// The run directory and its checkpoints: run_dir.h.
 //
 // The trainer prints nothing; the caller gets progress through callbacks.
 #ifndef MANYWORLDS_EXPERIMENTS_TRAINER_H_
@@ -42,13 +33,14 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
-#include "manyworlds/experiments/evaluator.h"
-#include "manyworlds/experiments/meta_test_protocol.h"
+#include "manyworlds/experiments/evaluation/checkpoint_evaluation.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/run/run_dir.h"
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
@@ -90,59 +82,6 @@ struct TrainSummary {
   std::optional<nlohmann::json> final_meta_train;
   nlohmann::json ToJson() const;
 };
-
-// Names inside a run directory.
-struct RunPaths {
-  std::filesystem::path dir;
-  std::filesystem::path config() const { return dir / "config.yaml"; }
-  std::filesystem::path tasks() const { return dir / "tasks.json"; }
-  // The held-out tasks of the meta-test (runs with an eval_env only).
-  std::filesystem::path eval_tasks() const { return dir / "eval_tasks.json"; }
-  std::filesystem::path checkpoints() const { return dir / "checkpoints"; }
-  std::filesystem::path summary() const { return dir / "summary.json"; }
-};
-
-// The newest intact checkpoint of a run (ChooseCheckpoint without the
-// warnings). Throws ConfigError if the run has none, Error if none is intact.
-std::filesystem::path LatestCheckpoint(const std::filesystem::path& run_dir);
-
-// Where a checkpoint was written with other BLAS or torch thread counts than
-// this process has, a warning for `eval`: the products round differently, so
-// its numbers need not match the run's own evaluations (resume refuses such a
-// checkpoint instead). Nothing when the counts agree, for older checkpoints
-// without a thread record, and for unreadable ones (the evaluation says why).
-std::optional<std::string> EvaluationThreadWarning(const std::filesystem::path& checkpoint);
-
-// A resolved run read back from its directory: config and tasks. Throws
-// ConfigError if the directory is not a run.
-struct RunInfo {
-  TrainConfig config;
-  TaskSet tasks;
-  std::optional<TaskSet> eval_tasks;  // eval_tasks.json, if the run has an eval_env
-  static RunInfo Read(const std::filesystem::path& run_dir);
-};
-
-// Evaluates the learner saved in a checkpoint directory (learner.pt) on the
-// run's tasks with `episodes` per task, seeded by the run's evaluation seed
-// or by `seed` when given. Throws Error on a corrupt checkpoint.
-EvalResult EvaluateCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
-                              int64_t episodes, std::optional<uint64_t> seed = std::nullopt);
-
-// Runs the meta-test protocol (meta_test_protocol.h) with the run's
-// meta_test settings on its held-out tasks, for the learner saved in a
-// checkpoint directory. Throws ConfigError if the run has no eval_env
-// (no held-out tasks), Error on a corrupt checkpoint.
-nlohmann::json MetaTestCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
-                                  std::optional<uint64_t> seed = std::nullopt);
-// The same protocol on the run's training tasks (meta-train success, as
-// logged during training). Same errors.
-nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const std::filesystem::path& checkpoint,
-                                   std::optional<uint64_t> seed = std::nullopt);
-// The same protocol with `trials` trials per held-out task instead of the
-// config's trials_per_task, every episode kept (rollout of a meta-learner).
-MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run,
-                                          const std::filesystem::path& checkpoint,
-                                          int64_t trials, uint64_t seed);
 
 class Trainer {
  public:

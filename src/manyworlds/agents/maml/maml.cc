@@ -16,6 +16,10 @@
 namespace manyworlds::agents {
 namespace {
 
+// Names of this actor's ActorState entries.
+constexpr char kHistory[] = "history";
+constexpr char kAdapted[] = "adapted";
+
 const MamlConfig& Validated(const MamlConfig& c) {
   c.Validate();
   return c;
@@ -217,12 +221,12 @@ ActOutput MamlLearner::Act(const torch::Tensor& obs, const torch::Tensor&, Actor
     out.log_prob = d.LogProb(out.action);
     return out;
   };
-  if (state.adapted.empty()) return act(policy_->Forward(obs));
+  if (state.lists[kAdapted].empty()) return act(policy_->Forward(obs));
   // each env with its own adapted parameters
   std::vector<torch::Tensor> actions, log_probs;
-  std::vector<torch::Tensor> params(state.adapted.size());
+  std::vector<torch::Tensor> params(state.lists[kAdapted].size());
   for (int64_t i = 0; i < obs.size(0); ++i) {
-    for (size_t j = 0; j < params.size(); ++j) params[j] = state.adapted[j][i];
+    for (size_t j = 0; j < params.size(); ++j) params[j] = state.lists[kAdapted][j][i];
     const ActOutput out = act(policy_->Forward(obs.narrow(0, i, 1), {}, params));
     actions.push_back(out.action);
     log_probs.push_back(out.log_prob);
@@ -237,21 +241,21 @@ void MamlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState&
   if (scope == ResetScope::kEpisode) return;
   const torch::Tensor mask = envs.to(torch::kBool);
   if (mask.all().item<bool>()) {
-    state.history.clear();
-    state.adapted.clear();
+    state.lists[kHistory].clear();
+    state.lists[kAdapted].clear();
     return;
   }
   // forget the masked rows only: their records stop counting, their policy is theta again
   const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
-  for (torch::Tensor& row : state.history) {
+  for (torch::Tensor& row : state.lists[kHistory]) {
     row = row.clone();
     row.select(1, row.size(1) - 1).mul_(keep);
   }
-  for (size_t j = 0; j < state.adapted.size(); ++j) {
-    std::vector<int64_t> shape(state.adapted[j].dim(), 1);
+  for (size_t j = 0; j < state.lists[kAdapted].size(); ++j) {
+    std::vector<int64_t> shape(state.lists[kAdapted][j].dim(), 1);
     shape[0] = mask.size(0);
-    state.adapted[j] = torch::where(mask.reshape(shape), policy_->params()[j].detach().unsqueeze(0),
-                                    state.adapted[j]);
+    state.lists[kAdapted][j] = torch::where(
+        mask.reshape(shape), policy_->params()[j].detach().unsqueeze(0), state.lists[kAdapted][j]);
   }
 }
 
@@ -259,19 +263,20 @@ void MamlLearner::Observe(const StepOutcome& o, ActorState& state) {
   c10::InferenceMode inference;
   const int64_t n = o.obs.size(0);
   const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
-  state.history.push_back(torch::cat({o.obs, o.action.to(torch::kFloat32), o.reward.reshape({n, 1}),
-                                      o.ended.reshape({n, 1}), valid.reshape({n, 1})},
-                                     1)
-                              .clone());
+  state.lists[kHistory].push_back(
+      torch::cat({o.obs, o.action.to(torch::kFloat32), o.reward.reshape({n, 1}),
+                  o.ended.reshape({n, 1}), valid.reshape({n, 1})},
+                 1)
+          .clone());
 }
 
 void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
-  if (state.history.empty()) return;
+  if (state.lists[kHistory].empty()) return;
   c10::InferenceMode off(false);
   torch::AutoGradMode grad(true);
   // (T, N, D) rows [obs, action, reward, ended, valid]; inference tensors
   // become normal ones by the clone
-  const torch::Tensor h = torch::stack(state.history).clone();
+  const torch::Tensor h = torch::stack(state.lists[kHistory]).clone();
   const int64_t d_obs = spaces_.obs_dim, d_act = spaces_.action_dim;
   const int64_t n = h.size(1);
   const std::vector<torch::Tensor>& theta = policy_->params();
@@ -292,16 +297,16 @@ void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
       for (const torch::Tensor& p : InnerStep(theta, e, valid, /*create_graph=*/false)) {
         adapted.push_back(p.detach());
       }
-    } else if (!state.adapted.empty()) {
-      for (const torch::Tensor& p : state.adapted) adapted.push_back(p[i]);
+    } else if (!state.lists[kAdapted].empty()) {
+      for (const torch::Tensor& p : state.lists[kAdapted]) adapted.push_back(p[i]);
     } else {
       for (const torch::Tensor& p : theta) adapted.push_back(p.detach());
     }
     for (size_t j = 0; j < theta.size(); ++j) rows[j].push_back(adapted[j]);
   }
-  state.adapted.clear();
-  for (auto& r : rows) state.adapted.push_back(torch::stack(r));
-  state.history.clear();
+  state.lists[kAdapted].clear();
+  for (auto& r : rows) state.lists[kAdapted].push_back(torch::stack(r));
+  state.lists[kHistory].clear();
 }
 
 Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {

@@ -79,6 +79,9 @@ struct MamlConfig {
     f("max_backtracks", max_backtracks);
     f("seed", seed);
   }
+  // Rounds of every env collected for one update: the episodes before and
+  // after adaptation.
+  int64_t RoundsPerIteration() const { return 2 * episodes_per_task; }
   // Throws ConfigError naming the first bad field (prefix "agent.").
   void Validate() const;
 };

@@ -13,6 +13,11 @@
 namespace manyworlds::agents {
 namespace {
 
+// Names of this actor's ActorState entries.
+constexpr char kLatent[] = "latent";
+constexpr char kContext[] = "context";
+constexpr char kHistory[] = "history";
+
 const PearlConfig& Validated(const PearlConfig& c) {
   c.Validate();
   return c;
@@ -290,47 +295,53 @@ ActorState PearlLearner::Initial(int64_t num_envs) {
   c10::InferenceMode inference;
   ActorState state;
   const LatentBelief prior = Prior(num_envs);
-  state.context = torch::cat({prior.mean, prior.var}, 1);
-  state.latent = torch::full({num_envs, config_.latent_dim}, std::nan(""));
+  state.tensors[kContext] = torch::cat({prior.mean, prior.var}, 1);
+  state.tensors[kLatent] = torch::full({num_envs, config_.latent_dim}, std::nan(""));
   state.generator = rl::MakeGenerator(config_.seed ^ kActorStream);
   return state;
 }
 
 ActOutput PearlLearner::Act(const torch::Tensor& obs, const torch::Tensor& /*task_index*/,
                             ActorState& state, ActMode mode) {
-  if (!state.latent.defined() || state.latent.size(0) != obs.size(0)) {
-    throw Error("pearl: the actor state has " +
-                std::to_string(state.latent.defined() ? state.latent.size(0) : 0) +
-                " envs but obs has " + std::to_string(obs.size(0)) + " rows; call Initial");
+  if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != obs.size(0)) {
+    throw Error(
+        "pearl: the actor state has " +
+        std::to_string(state.tensors[kLatent].defined() ? state.tensors[kLatent].size(0) : 0) +
+        " envs but obs has " + std::to_string(obs.size(0)) + " rows; call Initial");
   }
   at::Generator& generator = SamplingGenerator(state, generator_);
   {
     c10::InferenceMode inference;
-    const torch::Tensor redraw = state.latent.isnan().any(1);
+    const torch::Tensor redraw = state.tensors[kLatent].isnan().any(1);
     if (redraw.any().item<bool>()) {
       const int64_t z = config_.latent_dim;
-      const LatentBelief belief{state.context.narrow(1, 0, z), state.context.narrow(1, z, z)};
-      state.latent = WhereRows(redraw, SampleLatent(belief, generator), state.latent);
+      const LatentBelief belief{state.tensors[kContext].narrow(1, 0, z),
+                                state.tensors[kContext].narrow(1, z, z)};
+      state.tensors[kLatent] =
+          WhereRows(redraw, SampleLatent(belief, generator), state.tensors[kLatent]);
     }
   }
   ActOutput out;
-  out.action = ActWithLatent(obs, state.latent, mode == ActMode::kDeterministic, generator);
+  out.action =
+      ActWithLatent(obs, state.tensors[kLatent], mode == ActMode::kDeterministic, generator);
   return out;
 }
 
 void PearlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
   c10::InferenceMode inference;
   const torch::Tensor mask = envs.to(torch::kBool);
-  state.latent = WhereRows(mask, torch::full_like(state.latent, std::nan("")), state.latent);
+  state.tensors[kLatent] = WhereRows(mask, torch::full_like(state.tensors[kLatent], std::nan("")),
+                                     state.tensors[kLatent]);
   if (scope == ResetScope::kEpisode) return;
   const LatentBelief prior = Prior(mask.size(0));
-  state.context = WhereRows(mask, torch::cat({prior.mean, prior.var}, 1), state.context);
+  state.tensors[kContext] =
+      WhereRows(mask, torch::cat({prior.mean, prior.var}, 1), state.tensors[kContext]);
   if (mask.all().item<bool>()) {
-    state.history.clear();
+    state.lists[kHistory].clear();
     return;
   }
   const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
-  for (torch::Tensor& row : state.history) {
+  for (torch::Tensor& row : state.lists[kHistory]) {
     row = row.clone();
     row.select(1, row.size(1) - 1).mul_(keep);
   }
@@ -340,12 +351,13 @@ void PearlLearner::Observe(const StepOutcome& o, ActorState& state) {
   c10::InferenceMode inference;
   const int64_t n = o.obs.size(0);
   const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
-  state.history.push_back(torch::cat({o.obs.to(torch::kFloat32), o.action.reshape({n, -1}),
-                                      o.reward.reshape({n, 1}), valid.reshape({n, 1})},
-                                     1));
+  state.lists[kHistory].push_back(torch::cat({o.obs.to(torch::kFloat32), o.action.reshape({n, -1}),
+                                              o.reward.reshape({n, 1}), valid.reshape({n, 1})},
+                                             1));
   // a new episode draws a new z from the current belief
   const torch::Tensor ended = (o.ended > 0.5).logical_and(valid > 0.5);
-  state.latent = WhereRows(ended, torch::full_like(state.latent, std::nan("")), state.latent);
+  state.tensors[kLatent] = WhereRows(ended, torch::full_like(state.tensors[kLatent], std::nan("")),
+                                     state.tensors[kLatent]);
 }
 
 void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
@@ -353,12 +365,14 @@ void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
   const torch::Tensor mask = envs.to(torch::kBool);
   const int64_t n = mask.size(0), d = context_dim();
   LatentBelief posterior = Prior(n);
-  if (!state.history.empty()) {
-    const torch::Tensor rows = torch::stack(state.history, 1);  // (n, steps, d + 1)
+  if (!state.lists[kHistory].empty()) {
+    const torch::Tensor rows = torch::stack(state.lists[kHistory], 1);  // (n, steps, d + 1)
     posterior = Posterior(rows.narrow(2, 0, d), rows.select(2, d));
   }
-  state.context = WhereRows(mask, torch::cat({posterior.mean, posterior.var}, 1), state.context);
-  state.latent = WhereRows(mask, torch::full_like(state.latent, std::nan("")), state.latent);
+  state.tensors[kContext] =
+      WhereRows(mask, torch::cat({posterior.mean, posterior.var}, 1), state.tensors[kContext]);
+  state.tensors[kLatent] = WhereRows(mask, torch::full_like(state.tensors[kLatent], std::nan("")),
+                                     state.tensors[kLatent]);
 }
 
 void PearlLearner::Save(torch::serialize::OutputArchive& archive) const {

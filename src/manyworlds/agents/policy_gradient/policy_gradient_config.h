@@ -83,6 +83,9 @@ struct PolicyGradientConfig {
     f("rollout_rounds", rollout_rounds);
     f("seed", seed);
   }
+  // Rounds of every env collected for one update (the on-policy loop's
+  // iteration).
+  int64_t RoundsPerIteration() const { return rollout_rounds; }
   // Throws ConfigError naming the first bad field (prefix "agent.").
   void Validate() const;
 };

@@ -14,6 +14,10 @@
 namespace manyworlds::agents {
 namespace {
 
+// Names of this actor's ActorState entries.
+constexpr char kHidden[] = "hidden";
+constexpr char kContext[] = "context";
+
 const Rl2Config& Validated(const Rl2Config& c) {
   c.Validate();
   return c;
@@ -88,8 +92,8 @@ torch::Tensor Rl2Learner::Context(const torch::Tensor& actions, const torch::Ten
 
 ActorState Rl2Learner::Initial(int64_t num_envs) {
   ActorState state;
-  state.hidden = torch::zeros({num_envs, config_.hidden_dim});
-  state.context = torch::zeros({num_envs, context_dim_});
+  state.tensors[kHidden] = torch::zeros({num_envs, config_.hidden_dim});
+  state.tensors[kContext] = torch::zeros({num_envs, context_dim_});
   return state;
 }
 
@@ -100,14 +104,14 @@ ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorS
   if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim) {
     throw Error("rl2 actor: expected obs (N, " + std::to_string(spaces_.obs_dim) + ")");
   }
-  if (!state.hidden.defined() || state.hidden.size(0) != n) {
+  if (!state.tensors[kHidden].defined() || state.tensors[kHidden].size(0) != n) {
     std::optional<at::Generator> own = state.generator;
     state = Initial(n);
     state.generator = own;
   }
-  const torch::Tensor x = torch::cat({obs, state.context}, -1).unsqueeze(0);
-  auto [out, h] = gru_->Forward(x, state.hidden);
-  state.hidden = h;
+  const torch::Tensor x = torch::cat({obs, state.tensors[kContext]}, -1).unsqueeze(0);
+  auto [out, h] = gru_->Forward(x, state.tensors[kHidden]);
+  state.tensors[kHidden] = h;
   const nn::ActionDistribution d = head_->Forward(out[0]);
   ActOutput result;
   result.action =
@@ -119,20 +123,20 @@ ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorS
 void Rl2Learner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
   if (scope == ResetScope::kEpisode) return;  // the trial goes on
   c10::InferenceMode inference;
-  if (!state.hidden.defined() || state.hidden.size(0) != envs.size(0)) {
+  if (!state.tensors[kHidden].defined() || state.tensors[kHidden].size(0) != envs.size(0)) {
     std::optional<at::Generator> own = state.generator;
     state = Initial(envs.size(0));
     state.generator = own;
     return;
   }
   const torch::Tensor keep = envs.to(torch::kBool).logical_not().unsqueeze(1).to(torch::kFloat32);
-  state.hidden = state.hidden * keep;
-  state.context = state.context * keep;
+  state.tensors[kHidden] = state.tensors[kHidden] * keep;
+  state.tensors[kContext] = state.tensors[kContext] * keep;
 }
 
 void Rl2Learner::Observe(const StepOutcome& outcome, ActorState& state) {
   c10::InferenceMode inference;
-  state.context = Context(outcome.action, outcome.reward, outcome.ended);
+  state.tensors[kContext] = Context(outcome.action, outcome.reward, outcome.ended);
 }
 
 nn::ActionDistribution Rl2Learner::Unroll(const torch::Tensor& x) const {

@@ -57,6 +57,8 @@ struct Rl2Config {
     f("context_reward_scale", context_reward_scale);
     f("seed", seed);
   }
+  // Rounds of every env collected for one update: one trial.
+  int64_t RoundsPerIteration() const { return episodes_per_trial; }
   // Throws ConfigError naming the first bad field (prefix "agent.").
   void Validate() const;
 };

@@ -1,4 +1,4 @@
-#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac/sac.h"
 
 #include <algorithm>
 #include <cmath>

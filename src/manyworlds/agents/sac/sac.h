@@ -50,21 +50,21 @@
 //
 // The learner calls nn::ConfigureTorchThreads() (see nn/threads.h). Not
 // thread-safe.
-#ifndef MANYWORLDS_AGENTS_SAC_H_
-#define MANYWORLDS_AGENTS_SAC_H_
+#ifndef MANYWORLDS_AGENTS_SAC_SAC_H_
+#define MANYWORLDS_AGENTS_SAC_SAC_H_
+
+#include <torch/torch.h>
 
 #include <cstdint>
 #include <memory>
 #include <utility>
 #include <vector>
 
-#include <torch/torch.h>
-
 #include "manyworlds/agents/actor.h"
 #include "manyworlds/agents/batch.h"
 #include "manyworlds/agents/learner.h"
 #include "manyworlds/agents/metrics.h"
-#include "manyworlds/agents/sac_config.h"
+#include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
 #include "manyworlds/nn/gaussian_policy.h"
 #include "manyworlds/nn/task_encoder.h"
@@ -216,4 +216,4 @@ class SacLearner : public OffPolicyLearner, public Actor {
 
 }  // namespace manyworlds::agents
 
-#endif  // MANYWORLDS_AGENTS_SAC_H_
+#endif  // MANYWORLDS_AGENTS_SAC_SAC_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/agents/sac_config.h"
+#include "manyworlds/agents/sac/sac_config.h"
 
 #include <algorithm>
 #include <cmath>

@@ -22,8 +22,8 @@
 //                  encoder to the critic's).
 // pcgrad: per-task gradients of the critic and actor losses combined by
 // PCGrad (nn/pcgrad.h) before the fused Adam steps.
-#ifndef MANYWORLDS_AGENTS_SAC_CONFIG_H_
-#define MANYWORLDS_AGENTS_SAC_CONFIG_H_
+#ifndef MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
+#define MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
 
 #include <cstdint>
 #include <optional>
@@ -74,6 +74,37 @@ struct SacConfig {
   int64_t update_shards = 1;
   int64_t update_threads = 0;
 
+  // Every config key, in the order the docs list them (reading, printing
+  // and overrides go through this one list).
+  template <class F>
+  void VisitFields(F&& f) {
+    f("hidden_dim", hidden_dim);
+    f("num_layers", num_layers);
+    f("actor_lr", actor_lr);
+    f("critic_lr", critic_lr);
+    f("alpha_lr", alpha_lr);
+    f("adam_beta1", adam_beta1);
+    f("adam_beta2", adam_beta2);
+    f("discount", discount);
+    f("tau", tau);
+    f("init_temperature", init_temperature);
+    f("batch_size", batch_size);
+    f("target_entropy", target_entropy);
+    f("disentangled_alpha", disentangled_alpha);
+    f("log_std_min", log_std_min);
+    f("log_std_max", log_std_max);
+    f("actor_update_freq", actor_update_freq);
+    f("critic_target_update_freq", critic_target_update_freq);
+    f("max_critic_loss", max_critic_loss);
+    f("seed", seed);
+    f("architecture", architecture);
+    f("task_embedding_dim", task_embedding_dim);
+    f("num_experts", num_experts);
+    f("encoder_dim", encoder_dim);
+    f("pcgrad", pcgrad);
+    f("update_shards", update_shards);
+    f("update_threads", update_threads);
+  }
   // Throws ConfigError naming the first bad field and its allowed range.
   void Validate() const;
 };
@@ -83,4 +114,4 @@ const std::vector<std::string>& SacArchitectures();
 
 }  // namespace manyworlds::agents
 
-#endif  // MANYWORLDS_AGENTS_SAC_CONFIG_H_
+#endif  // MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_

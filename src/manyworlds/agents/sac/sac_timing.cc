@@ -1,11 +1,11 @@
-#include "manyworlds/agents/sac_timing.h"
+#include "manyworlds/agents/sac/sac_timing.h"
 
 #include <algorithm>
 #include <chrono>
 #include <string>
 #include <vector>
 
-#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::agents {

@@ -1,10 +1,10 @@
 // Throughput probe for the SAC update, for the CLI and benchmarks.
-#ifndef MANYWORLDS_AGENTS_SAC_TIMING_H_
-#define MANYWORLDS_AGENTS_SAC_TIMING_H_
+#ifndef MANYWORLDS_AGENTS_SAC_SAC_TIMING_H_
+#define MANYWORLDS_AGENTS_SAC_SAC_TIMING_H_
 
 #include <vector>
 
-#include "manyworlds/agents/sac_config.h"
+#include "manyworlds/agents/sac/sac_config.h"
 
 namespace manyworlds::agents {
 
@@ -28,4 +28,4 @@ double TimeSacUpdates(const SacConfig& config, int obs_dim, int action_dim, int 
 
 }  // namespace manyworlds::agents
 
-#endif  // MANYWORLDS_AGENTS_SAC_TIMING_H_
+#endif  // MANYWORLDS_AGENTS_SAC_SAC_TIMING_H_

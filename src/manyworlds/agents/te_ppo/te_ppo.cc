@@ -15,6 +15,9 @@
 namespace manyworlds::agents {
 namespace {
 
+// Names of this actor's ActorState entries.
+constexpr char kLatent[] = "latent";
+
 const TePpoConfig& Validated(const TePpoConfig& c) {
   c.Validate();
   return c;
@@ -139,22 +142,22 @@ torch::Tensor TePpoLearner::TaskLatentMeans() const {
 ActorState TePpoLearner::Initial(int64_t num_envs) {
   c10::InferenceMode inference;
   ActorState state;
-  state.latent = torch::full({num_envs, config_.latent_dim},
-                             std::numeric_limits<float>::quiet_NaN(), torch::kFloat32);
+  state.tensors[kLatent] = torch::full({num_envs, config_.latent_dim},
+                                       std::numeric_limits<float>::quiet_NaN(), torch::kFloat32);
   return state;
 }
 
 void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& state) {
   c10::InferenceMode inference;
-  if (!state.latent.defined() || state.latent.size(0) != envs.size(0)) {
+  if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != envs.size(0)) {
     std::optional<at::Generator> own = state.generator;
     state = Initial(envs.size(0));
     state.generator = own;
     return;
   }
-  state.latent =
-      torch::where(envs.to(torch::kBool).unsqueeze(1),
-                   torch::full({}, std::numeric_limits<float>::quiet_NaN()), state.latent);
+  state.tensors[kLatent] = torch::where(envs.to(torch::kBool).unsqueeze(1),
+                                        torch::full({}, std::numeric_limits<float>::quiet_NaN()),
+                                        state.tensors[kLatent]);
 }
 
 ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
@@ -170,24 +173,24 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   if (mode == ActMode::kDeterministic) {
     latent = encoder_->Forward(OneHot(task_index)).mean;
   } else {
-    if (!state.latent.defined() || state.latent.size(0) != n) {
+    if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != n) {
       std::optional<at::Generator> own = state.generator;
       state = Initial(n);
       state.generator = own;
     }
-    const torch::Tensor fresh = state.latent.select(1, 0).isnan();
+    const torch::Tensor fresh = state.tensors[kLatent].select(1, 0).isnan();
     if (fresh.any().item<bool>()) {  // the encoder runs only where episodes begin
       const torch::Tensor drawn =
           encoder_->Forward(OneHot(task_index)).Sample(SamplingGenerator(state, generator_));
-      state.latent = torch::where(fresh.unsqueeze(1), drawn, state.latent);
+      state.tensors[kLatent] = torch::where(fresh.unsqueeze(1), drawn, state.tensors[kLatent]);
     }
-    latent = state.latent;
+    latent = state.tensors[kLatent];
   }
   const nn::ActionDistribution d = policy_->Forward(torch::cat({obs, latent}, -1));
   ActOutput out;
   out.action = mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
   out.log_prob = d.LogProb(out.action);
-  out.latent = latent;  // state updates replace state.latent, never write into it
+  out.latent = latent;  // state updates replace state.tensors[kLatent], never write into it
   return out;
 }
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/success.h"
 
 namespace manyworlds {
 namespace {
@@ -29,7 +30,7 @@ TerminateOnSuccess::TerminateOnSuccess(std::unique_ptr<Env> inner)
 
 void TerminateOnSuccess::DoStep(std::span<const float> action, const StepView& out) {
   Wrapper::DoStep(action, out);
-  if (out.info[success_index_] > 0.5f) *out.terminated = true;
+  if (IsSuccess(out.info[success_index_])) *out.terminated = true;
 }
 
 }  // namespace manyworlds

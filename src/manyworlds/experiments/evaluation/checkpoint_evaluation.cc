@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/checkpoint_evaluation.h"
+#include "manyworlds/experiments/evaluation/checkpoint_evaluation.h"
 
 #include <memory>
 #include <string>
@@ -7,7 +7,7 @@
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/experiments/run_dir.h"
+#include "manyworlds/experiments/run/run_dir.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -27,8 +27,8 @@ MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
   const EnvFacts eval_facts = CheckEvalTasks(*run.eval_tasks, facts, registry);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
   algorithm->LoadPolicy(checkpoint);
-  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config,
-                            seed, run.config.experiment.num_threads,
+  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config, seed,
+                            run.config.experiment.num_threads,
                             on_training_tasks ? &facts : &eval_facts);
   MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
   result.step = CheckpointStep(checkpoint);

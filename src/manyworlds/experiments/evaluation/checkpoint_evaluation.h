@@ -2,18 +2,17 @@
 // multi-task protocol (evaluator.h) or the meta-test protocol
 // (meta_test_protocol.h), as `manyworlds eval` and `rollout --policy
 // checkpoint:` run them.
-#ifndef MANYWORLDS_EXPERIMENTS_CHECKPOINT_EVALUATION_H_
-#define MANYWORLDS_EXPERIMENTS_CHECKPOINT_EVALUATION_H_
+#ifndef MANYWORLDS_EXPERIMENTS_EVALUATION_CHECKPOINT_EVALUATION_H_
+#define MANYWORLDS_EXPERIMENTS_EVALUATION_CHECKPOINT_EVALUATION_H_
 
 #include <cstdint>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 
-#include <nlohmann/json.hpp>
-
-#include "manyworlds/experiments/evaluator.h"
-#include "manyworlds/experiments/meta_test_protocol.h"
-#include "manyworlds/experiments/run_dir.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/run/run_dir.h"
 
 namespace manyworlds::experiments {
 
@@ -36,9 +35,9 @@ nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const std::filesystem::pa
 // The same protocol with `trials` trials per held-out task instead of the
 // config's trials_per_task, every episode kept (rollout of a meta-learner).
 MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run,
-                                          const std::filesystem::path& checkpoint,
-                                          int64_t trials, uint64_t seed);
+                                          const std::filesystem::path& checkpoint, int64_t trials,
+                                          uint64_t seed);
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_CHECKPOINT_EVALUATION_H_
+#endif  // MANYWORLDS_EXPERIMENTS_EVALUATION_CHECKPOINT_EVALUATION_H_

@@ -1,15 +1,14 @@
-#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
+
+#include <torch/torch.h>
 
 #include <algorithm>
 #include <chrono>
 
-#include <torch/torch.h>
-
 #include "manyworlds/agents/actor.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
-#include "manyworlds/experiments/collector.h"
-#include "manyworlds/experiments/episode_tracker.h"
+#include "manyworlds/experiments/loops/collector.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -38,23 +37,18 @@ nlohmann::json EvalResult::ToJson() const {
 }
 
 Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
-                     uint64_t seed, int num_threads)
+                     uint64_t seed, int num_threads, const EnvFacts* facts)
     : tasks_(tasks), episodes_(episodes_per_task), seed_(seed) {
   if (episodes_per_task < 1) {
     throw ConfigError("evaluation episodes must be >= 1, got " +
                       std::to_string(episodes_per_task));
   }
-  facts_ = InspectEnvs(tasks, registry);
+  facts_ = facts != nullptr ? *facts : InspectEnvs(tasks, registry);
   // waves of equal size: cap envs per task, then spread episodes evenly
   const int64_t cap = std::max<int64_t>(1, kMaxEvalEnvs / tasks.size());
   const int64_t waves = (episodes_ + cap - 1) / cap;
   slots_ = (episodes_ + waves - 1) / waves;
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int64_t t = 0; t < tasks.size(); ++t) {
-    for (int64_t j = 0; j < slots_; ++j) envs.push_back(tasks.MakeEnv(t, registry));
-  }
-  exec_ = std::make_unique<BatchedExecutor>(
-      std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
+  collector_ = std::make_unique<Collector>(tasks, registry, facts_, slots_, num_threads);
 }
 
 Evaluator::~Evaluator() = default;
@@ -68,72 +62,56 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
   const int64_t num_tasks = tasks_.size();
   const int64_t n = num_tasks * slots_;
   const int64_t obs_dim = facts_.obs_dim;
-  const int64_t info_size = static_cast<int64_t>(exec_->info_fields().size());
   std::vector<double> returns(num_tasks, 0.0), lengths(num_tasks, 0.0), successes(num_tasks, 0.0);
-  std::vector<float> actions(n * facts_.action_dim);
   torch::Tensor task_index = torch::empty({n}, torch::kInt64);
   for (int64_t i = 0; i < n; ++i) task_index[i] = i / slots_;
 
   std::vector<std::vector<EpisodeResult>> episodes(num_tasks,
                                                    std::vector<EpisodeResult>(episodes_));
-  std::vector<double> ep_return(n), ep_length(n);
   std::vector<float> step_rewards(n), step_ended(n);
-  std::vector<char> ep_success(n), active(n);
+  std::vector<char> active(n);
+  BatchedExecutor& exec = collector_->executor();
   for (int64_t first = 0; first < episodes_; first += slots_) {
     if (first > 0) new_episodes();
-    for (int64_t i = 0; i < n; ++i) {
+    collector_->BeginEpisodes([&](int64_t i) {
       const int64_t t = i / slots_;
       const int64_t e = first + i % slots_;
-      Env& env = exec_->env(static_cast<int>(i));
-      env.Seed(MixSeed(MixSeed(seed_, t), e));
-      env.SeedTask(MixSeed(MixSeed(seed_ + 1, t), e));
-      const auto& variations = tasks_.tasks[t].variations;
-      exec_->SetTaskState(static_cast<int>(i), variations[e % variations.size()]);
-      ep_return[i] = 0.0;
-      ep_length[i] = 0.0;
-      ep_success[i] = 0;
-      active[i] = e < episodes_;
-    }
+      return Collector::EnvStart{MixSeed(MixSeed(seed_, t), e), MixSeed(MixSeed(seed_ + 1, t), e),
+                                 e};
+    });
+    for (int64_t i = 0; i < n; ++i) active[i] = first + i % slots_ < episodes_;
     int64_t remaining = std::count(active.begin(), active.end(), 1);
     while (remaining > 0) {
-      const torch::Tensor obs =
-          torch::from_blob(const_cast<float*>(exec_->env_obs().data()), {n, obs_dim},
-                           torch::kFloat32);
+      const torch::Tensor obs = torch::from_blob(
+          const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
       const torch::Tensor unit = policy(obs, task_index).contiguous();
       const torch::Tensor obs_before = observe ? obs.clone() : torch::Tensor();
-      PolicyToEnvActions(unit.data_ptr<float>(), n, facts_, actions.data());
-      exec_->Step(actions);
-      const auto rewards = exec_->rewards();
-      const auto terminated = exec_->terminated();
-      const auto truncated = exec_->truncated();
-      const auto info = exec_->info();
+      collector_->StepEnvs({unit.data_ptr<float>(), static_cast<size_t>(unit.numel())});
       if (observe) {
+        const auto rewards = exec.rewards();
+        const auto terminated = exec.terminated();
+        const auto truncated = exec.truncated();
         for (int64_t i = 0; i < n; ++i) {
           step_rewards[i] = rewards[i];
           step_ended[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
         }
         observe(obs_before, unit, step_rewards.data(), step_ended.data());
       }
-      for (int64_t i = 0; i < n; ++i) {
-        if (!active[i]) continue;
-        ep_return[i] += rewards[i];
-        ep_length[i] += 1;
-        if (facts_.success_index >= 0 && info[i * info_size + facts_.success_index] > kSuccessThreshold) {
-          ep_success[i] = 1;
-        }
-        if (terminated[i] || truncated[i]) {
-          const int64_t t = i / slots_;
-          returns[t] += ep_return[i];
-          lengths[t] += ep_length[i];
-          successes[t] += ep_success[i];
-          EpisodeResult& record = episodes[t][first + i % slots_];
-          record.episode_return = ep_return[i];
-          record.length = static_cast<int64_t>(ep_length[i]);
-          if (facts_.success_index >= 0) record.success = ep_success[i] != 0;
-          active[i] = 0;
-          --remaining;
-        }
-      }
+      // slots past the last episode of the last wave step along, unrecorded
+      collector_->CountEpisodes([&](const EpisodeRecord& ep) {
+        const int64_t i = ep.env;
+        if (!active[i]) return;
+        const int64_t t = i / slots_;
+        returns[t] += ep.episode_return;
+        lengths[t] += static_cast<double>(ep.length);
+        successes[t] += ep.success ? 1.0 : 0.0;
+        EpisodeResult& record = episodes[t][first + i % slots_];
+        record.episode_return = ep.episode_return;
+        record.length = ep.length;
+        if (facts_.success_index >= 0) record.success = ep.success;
+        active[i] = 0;
+        --remaining;
+      });
     }
   }
 

@@ -11,20 +11,19 @@
 // Episode e of task t runs with env seed MixSeed(MixSeed(seed, t), e) on the
 // task's variation e mod (number of variations), so an evaluation depends only on the policy: the same
 // checkpoint gives the same numbers during training and in `manyworlds eval`.
-#ifndef MANYWORLDS_EXPERIMENTS_EVALUATOR_H_
-#define MANYWORLDS_EXPERIMENTS_EVALUATOR_H_
+#ifndef MANYWORLDS_EXPERIMENTS_EVALUATION_EVALUATOR_H_
+#define MANYWORLDS_EXPERIMENTS_EVALUATION_EVALUATOR_H_
 
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
+#include "manyworlds/experiments/loops/collector.h"
 #include "manyworlds/experiments/task_set.h"
 
 // Torch-free header (the Python bindings and env-only tools include it).
@@ -86,9 +85,11 @@ class EvaluationProtocol {
 class Evaluator : public EvaluationProtocol {
  public:
   // Builds the evaluation envs (a wave of up to 64 envs in all, split evenly
-  // between tasks). Throws ConfigError as InspectEnvs does.
+  // between tasks). `facts`: the tasks' InspectEnvs, where the caller has
+  // it (else the tasks are inspected again, constructing every env once
+  // more). Throws ConfigError as InspectEnvs does.
   Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
-            uint64_t seed, int num_threads);
+            uint64_t seed, int num_threads, const EnvFacts* facts = nullptr);
   ~Evaluator();
 
   EvalResult Run(const PolicyFn& policy);
@@ -113,9 +114,9 @@ class Evaluator : public EvaluationProtocol {
   int64_t episodes_;
   uint64_t seed_;
   int64_t slots_;  // envs per task in one wave
-  std::unique_ptr<BatchedExecutor> exec_;
+  std::unique_ptr<Collector> collector_;
 };
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_EVALUATOR_H_
+#endif  // MANYWORLDS_EXPERIMENTS_EVALUATION_EVALUATOR_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/meta_test_protocol.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
 
 #include <torch/torch.h>
 
@@ -9,8 +9,8 @@
 #include "manyworlds/agents/actor.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
-#include "manyworlds/experiments/collector.h"
-#include "manyworlds/experiments/episode_tracker.h"
+#include "manyworlds/experiments/loops/collector.h"
+#include "manyworlds/experiments/loops/episode_tracker.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -33,17 +33,14 @@ torch::Tensor KeepRows(const torch::Tensor& before, const torch::Tensor& after,
 
 // The per-env tensors of an actor state a step may change (a waiting env's
 // recorded steps are marked invalid instead; see StepOutcome::valid).
-struct PerEnvState {
-  torch::Tensor hidden, latent, context;
-  explicit PerEnvState(const agents::ActorState& s)
-      : hidden(s.hidden), latent(s.latent), context(s.context) {}
-};
+using PerEnvState = std::map<std::string, torch::Tensor>;
 
 void Freeze(agents::ActorState& state, const PerEnvState& before, const torch::Tensor& frozen) {
   c10::InferenceMode inference;
-  state.hidden = KeepRows(before.hidden, state.hidden, frozen);
-  state.latent = KeepRows(before.latent, state.latent, frozen);
-  state.context = KeepRows(before.context, state.context, frozen);
+  for (auto& [name, tensor] : state.tensors) {
+    const auto it = before.find(name);
+    if (it != before.end()) tensor = KeepRows(it->second, tensor, frozen);
+  }
 }
 
 // Sums over the episodes of one phase of one task.
@@ -115,19 +112,15 @@ EvalResult MetaTestResult::AsEvalResult() const {
 }
 
 MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& registry,
-                                   const MetaTestConfig& config, uint64_t seed, int num_threads)
+                                   const MetaTestConfig& config, uint64_t seed, int num_threads,
+                                   const EnvFacts* facts)
     : tasks_(test_tasks), config_(config), seed_(seed) {
   config.Validate();
-  facts_ = InspectEnvs(test_tasks, registry);
+  facts_ = facts != nullptr ? *facts : InspectEnvs(test_tasks, registry);
   const int64_t cap = std::max<int64_t>(1, kMaxEnvs / test_tasks.size());
   const int64_t waves = (config.trials_per_task + cap - 1) / cap;
   slots_ = (config.trials_per_task + waves - 1) / waves;
-  std::vector<std::unique_ptr<Env>> envs;
-  for (int64_t t = 0; t < test_tasks.size(); ++t) {
-    for (int64_t j = 0; j < slots_; ++j) envs.push_back(test_tasks.MakeEnv(t, registry));
-  }
-  exec_ = std::make_unique<BatchedExecutor>(
-      std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
+  collector_ = std::make_unique<Collector>(test_tasks, registry, facts_, slots_, num_threads);
 }
 
 MetaTestProtocol::~MetaTestProtocol() = default;
@@ -137,15 +130,13 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
   const int64_t num_tasks = tasks_.size();
   const int64_t n = num_tasks * slots_;
   const int64_t obs_dim = facts_.obs_dim;
-  const int64_t info_size = static_cast<int64_t>(exec_->info_fields().size());
   const bool has_success = facts_.success_index >= 0;
   const bool observe = actor.WantsOutcomes();
   torch::Tensor task_index = torch::empty({n}, torch::kInt64);
   for (int64_t i = 0; i < n; ++i) task_index[i] = i / slots_;
-  std::vector<float> env_actions(n * facts_.action_dim);
   // [phase][task]; phase 0 = exploration, 1 = evaluation
   std::vector<std::vector<PhaseTotals>> totals(2, std::vector<PhaseTotals>(num_tasks));
-  EpisodeTracker tracker(n, info_size, facts_.success_index);
+  BatchedExecutor& exec = collector_->executor();
   std::vector<MetaTestEpisode> episodes;
   std::vector<int64_t> episodes_done(n);
   torch::Tensor waiting = torch::zeros({n}, torch::kBool);
@@ -169,34 +160,29 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
       const agents::ActMode mode = phase == 0 || config_.sample_evaluation
                                        ? agents::ActMode::kSample
                                        : agents::ActMode::kDeterministic;
-      for (int64_t i = 0; i < n; ++i) {
-        const int64_t t = i / slots_;
+      collector_->BeginEpisodes([&](int64_t i) {
         const int64_t v = first + i % slots_;
-        Env& env = exec_->env(static_cast<int>(i));
-        const uint64_t trial_seed = MixSeed(MixSeed(seed_, t), v);
-        env.Seed(MixSeed(trial_seed, phase));
-        env.SeedTask(MixSeed(trial_seed + 1, phase));
-        const auto& variations = tasks_.tasks[t].variations;
-        exec_->SetTaskState(static_cast<int>(i), variations[v % variations.size()]);
-        tracker.Restart(i);
+        const uint64_t trial_seed = MixSeed(MixSeed(seed_, i / slots_), v);
+        return Collector::EnvStart{MixSeed(trial_seed, phase), MixSeed(trial_seed + 1, phase), v};
+      });
+      for (int64_t i = 0; i < n; ++i) {
         episodes_done[i] = 0;
         waiting_flags[i] = !in_trial[i];
       }
       int64_t remaining = std::count(in_trial.begin(), in_trial.end(), 1);
       while (remaining > 0) {
-        const torch::Tensor obs = torch::from_blob(const_cast<float*>(exec_->env_obs().data()),
-                                                   {n, obs_dim}, torch::kFloat32);
-        const PerEnvState before(state);
+        const torch::Tensor obs = torch::from_blob(
+            const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
+        const PerEnvState before = state.tensors;
         const torch::Tensor valid = waiting.logical_not().to(torch::kFloat32);
         const torch::Tensor action = actor.Act(obs, task_index, state, mode).action.contiguous();
         // obs views the executor's buffer, which the step overwrites
         const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
-        PolicyToEnvActions(action.data_ptr<float>(), n, facts_, env_actions.data());
-        exec_->Step(env_actions);
-        const auto rewards = exec_->rewards();
-        const auto terminated = exec_->terminated();
-        const auto truncated = exec_->truncated();
+        collector_->StepEnvs({action.data_ptr<float>(), static_cast<size_t>(action.numel())});
         if (observe) {
+          const auto rewards = exec.rewards();
+          const auto terminated = exec.terminated();
+          const auto truncated = exec.truncated();
           for (int64_t i = 0; i < n; ++i) {
             reward_out[i] = rewards[i];
             ended_out[i] = terminated[i] || truncated[i] ? 1.0f : 0.0f;
@@ -207,7 +193,7 @@ MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
           actor.Observe(outcome, state);
         }
         Freeze(state, before, waiting);
-        tracker.Step(rewards, terminated, truncated, exec_->info(), [&](const EpisodeRecord& r) {
+        collector_->CountEpisodes([&](const EpisodeRecord& r) {
           if (waiting_flags[r.env]) return;  // past its episodes of this phase
           episodes.push_back({tasks_.tasks[r.env / slots_].name, first + r.env % slots_,
                               phase == 1, episodes_done[r.env], r.episode_return, r.length,

@@ -17,20 +17,18 @@
 // protocol's seed (ActorState::generator), so a meta-test during training and
 // `eval --protocol meta-test` on the same checkpoint give the same numbers. Env seeds: trial v of task t uses MixSeed(MixSeed(
 // seed, t), v) and runs on variation v mod (number of variations).
-#ifndef MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
-#define MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
+#ifndef MANYWORLDS_EXPERIMENTS_EVALUATION_META_TEST_PROTOCOL_H_
+#define MANYWORLDS_EXPERIMENTS_EVALUATION_META_TEST_PROTOCOL_H_
 
 #include <cstdint>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
-#include "manyworlds/experiments/evaluator.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
 #include "manyworlds/experiments/task_set.h"
 #include "manyworlds/experiments/train_config.h"
 
@@ -87,9 +85,11 @@ struct MetaTestResult {
 class MetaTestProtocol : public EvaluationProtocol {
  public:
   // Builds one env per trial, in waves of at most 64. Throws ConfigError as
-  // InspectEnvs does, or on a bad config.
+  // InspectEnvs does, or on a bad config. `facts`: the tasks' InspectEnvs,
+  // where the caller has it.
   MetaTestProtocol(const TaskSet& test_tasks, const Registry& registry,
-                   const MetaTestConfig& config, uint64_t seed, int num_threads);
+                   const MetaTestConfig& config, uint64_t seed, int num_threads,
+                   const EnvFacts* facts = nullptr);
   ~MetaTestProtocol();
 
   MetaTestResult RunMetaTest(agents::Actor& actor);
@@ -101,9 +101,9 @@ class MetaTestProtocol : public EvaluationProtocol {
   EnvFacts facts_;
   uint64_t seed_;
   int64_t slots_;  // envs in one wave
-  std::unique_ptr<BatchedExecutor> exec_;
+  std::unique_ptr<Collector> collector_;
 };
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_META_TEST_PROTOCOL_H_
+#endif  // MANYWORLDS_EXPERIMENTS_EVALUATION_META_TEST_PROTOCOL_H_

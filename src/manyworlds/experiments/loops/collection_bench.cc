@@ -1,17 +1,17 @@
-#include "manyworlds/experiments/collection_bench.h"
+#include "manyworlds/experiments/loops/collection_bench.h"
+
+#include <torch/torch.h>
 
 #include <algorithm>
 #include <chrono>
 #include <memory>
 #include <random>
 
-#include <torch/torch.h>
-
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/loops/collector.h"
 
 namespace manyworlds::experiments {
 namespace {

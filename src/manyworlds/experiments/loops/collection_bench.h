@@ -7,8 +7,8 @@
 //               bookkeeping, rollout or replay writes), timing the acting
 //               and stepping parts only (time_act_s + time_env_s of its
 //               metrics row; the update is excluded).
-#ifndef MANYWORLDS_EXPERIMENTS_COLLECTION_BENCH_H_
-#define MANYWORLDS_EXPERIMENTS_COLLECTION_BENCH_H_
+#ifndef MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTION_BENCH_H_
+#define MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTION_BENCH_H_
 
 #include <cstdint>
 #include <vector>
@@ -33,4 +33,4 @@ CollectionBenchResult MeasureCollection(const TrainConfig& config, int repeats);
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_COLLECTION_BENCH_H_
+#endif  // MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTION_BENCH_H_

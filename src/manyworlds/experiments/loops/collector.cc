@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/collector.h"
+#include "manyworlds/experiments/loops/collector.h"
 
 #include <algorithm>
 
@@ -55,29 +55,43 @@ void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_tria
   const uint64_t base = MixSeed(MixSeed(seed, kRoundStream), round);
   const uint64_t trial =
       MixSeed(MixSeed(seed, kTrialStream), static_cast<uint64_t>(round / rounds_per_trial));
-  for (int64_t i = 0; i < num_envs_; ++i) {
+  BeginEpisodes([&](int64_t i) {
     Rng r(MixSeed(base, i));
-    Env& env = exec_->env(static_cast<int>(i));
-    env.Seed(r.NextU64());
-    env.SeedTask(r.NextU64());
-    const auto& variations = tasks_.tasks[env_tasks_[i]].variations;
-    uint64_t v = 0;
-    if (variations.size() > 1) {
+    EnvStart start;
+    start.seed = r.NextU64();
+    start.task_seed = r.NextU64();
+    const uint64_t variations = tasks_.tasks[env_tasks_[i]].variations.size();
+    if (variations > 1) {
       Rng trial_rng(MixSeed(trial, i));
-      v = rounds_per_trial == 1 ? r.UniformInt(variations.size())
-                                : trial_rng.UniformInt(variations.size());
+      start.variation = static_cast<int64_t>(
+          rounds_per_trial == 1 ? r.UniformInt(variations) : trial_rng.UniformInt(variations));
     }
+    return start;
+  });
+}
+
+void Collector::BeginEpisodes(const std::function<EnvStart(int64_t env)>& start) {
+  for (int64_t i = 0; i < num_envs_; ++i) {
+    const EnvStart s = start(i);
+    Env& env = exec_->env(static_cast<int>(i));
+    env.Seed(s.seed);
+    env.SeedTask(s.task_seed);
+    const auto& variations = tasks_.tasks[env_tasks_[i]].variations;
+    const int64_t v = s.variation % static_cast<int64_t>(variations.size());
     exec_->SetTaskState(static_cast<int>(i), variations[v]);
-    env_variations_[i] = static_cast<int64_t>(v);
+    env_variations_[i] = v;
     tracker_.Restart(i);
   }
 }
 
-void Collector::Step(std::span<const float> policy_actions, EpisodeTotals& totals) {
+void Collector::StepEnvs(std::span<const float> policy_actions) {
   PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
   exec_->Step(env_actions_);
-  tracker_.Step(exec_->rewards(), exec_->terminated(), exec_->truncated(), exec_->info(),
-                [&](const EpisodeRecord& r) { totals.Add(r); });
+}
+
+void Collector::Step(std::span<const float> policy_actions, EpisodeTotals& totals) {
+  StepEnvs(policy_actions);
+  CountEpisodes([&](const EpisodeRecord& r) { totals.Add(r); });
 }
 
 }  // namespace manyworlds::experiments

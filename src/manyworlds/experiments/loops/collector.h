@@ -1,5 +1,8 @@
-// Where envs meet learners: a batched executor over a task set's training
-// envs, the round schedule, action mapping and episode accounting.
+// Where envs meet learners, the one episode engine: a batched executor over a
+// task set's envs, their seeding (training rounds, or the episodes an
+// evaluation protocol asks for), action mapping and episode accounting. The
+// training loops, the multi-task evaluator and the meta-test protocol all
+// step their envs through a Collector.
 //
 // Envs: envs_per_task per task, env i runs task i / envs_per_task. Rounds:
 // at the start of round r every env is re-seeded from (seed, r, env) and
@@ -10,19 +13,19 @@
 // Actions: policies act in their own units (agents/actor.h); Step clips Box
 // actions to [-1, 1] and scales them to the env's bounds, and passes
 // Discrete indices through.
-#ifndef MANYWORLDS_EXPERIMENTS_COLLECTOR_H_
-#define MANYWORLDS_EXPERIMENTS_COLLECTOR_H_
+#ifndef MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTOR_H_
+#define MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTOR_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <span>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
-#include "manyworlds/experiments/episode_tracker.h"
+#include "manyworlds/experiments/loops/episode_tracker.h"
 #include "manyworlds/experiments/task_set.h"
 
 namespace manyworlds::experiments {
@@ -71,11 +74,29 @@ class Collector {
   // r / rounds_per_trial keep each env on the same variation (a trial of
   // meta-RL); the env seeds still change every round.
   void BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial = 1);
+  // Starts a new episode in every env as `start(env)` says: its dynamics and
+  // task seeds and which of its task's variations it runs (modulo their
+  // number). The evaluation protocols seed their episodes this way.
+  struct EnvStart {
+    uint64_t seed = 0;
+    uint64_t task_seed = 0;
+    int64_t variation = 0;
+  };
+  void BeginEpisodes(const std::function<EnvStart(int64_t env)>& start);
   // Current observations (num_envs x obs_dim); valid until the next Step.
   std::span<const float> observations() const { return exec_->env_obs(); }
   // Steps every env with one row of policy actions each (num_envs x
   // action_dim) and accounts the episodes that ended into `totals`.
   void Step(std::span<const float> policy_actions, EpisodeTotals& totals);
+  // The same in two halves, for callers that look at a step's outcome
+  // (executor().rewards(), ...) before its episodes are counted: StepEnvs
+  // steps, CountEpisodes calls on_end(record) for each env whose episode
+  // ended, in env order (the env then runs its next episode).
+  void StepEnvs(std::span<const float> policy_actions);
+  template <class OnEnd>
+  void CountEpisodes(OnEnd&& on_end) {
+    tracker_.Step(exec_->rewards(), exec_->terminated(), exec_->truncated(), exec_->info(), on_end);
+  }
 
  private:
   const TaskSet& tasks_;
@@ -95,4 +116,4 @@ void PolicyToEnvActions(const float* policy, int64_t rows, const EnvFacts& facts
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_COLLECTOR_H_
+#endif  // MANYWORLDS_EXPERIMENTS_LOOPS_COLLECTOR_H_

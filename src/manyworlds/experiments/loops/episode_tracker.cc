@@ -1,4 +1,6 @@
-#include "manyworlds/experiments/episode_tracker.h"
+#include "manyworlds/experiments/loops/episode_tracker.h"
+
+#include "manyworlds/core/success.h"
 
 namespace manyworlds::experiments {
 
@@ -18,7 +20,7 @@ void EpisodeTracker::Restart(int64_t env) {
 void EpisodeTracker::Accumulate(int64_t env, float reward, std::span<const float> info) {
   returns_[env] += reward;
   ++lengths_[env];
-  if (success_index_ >= 0 && info[env * info_size_ + success_index_] > kSuccessThreshold) {
+  if (success_index_ >= 0 && IsSuccess(info[env * info_size_ + success_index_])) {
     successes_[env] = 1;
   }
 }

@@ -1,16 +1,16 @@
 // The one place episodes are counted, for training and evaluation alike:
-// return, length, and success = the env's `success` info field above 0.5 at
-// any step of the episode (Meta-World's and MTRL's rule).
-#ifndef MANYWORLDS_EXPERIMENTS_EPISODE_TRACKER_H_
-#define MANYWORLDS_EXPERIMENTS_EPISODE_TRACKER_H_
+// return, length, and success (core/success.h: the env's `success` info
+// field above 0.5 at any step of the episode, Meta-World's and MTRL's rule).
+#ifndef MANYWORLDS_EXPERIMENTS_LOOPS_EPISODE_TRACKER_H_
+#define MANYWORLDS_EXPERIMENTS_LOOPS_EPISODE_TRACKER_H_
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-namespace manyworlds::experiments {
+#include "manyworlds/core/success.h"
 
-inline constexpr float kSuccessThreshold = 0.5f;
+namespace manyworlds::experiments {
 
 struct EpisodeRecord {
   int64_t env = 0;
@@ -53,4 +53,4 @@ class EpisodeTracker {
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_EPISODE_TRACKER_H_
+#endif  // MANYWORLDS_EXPERIMENTS_LOOPS_EPISODE_TRACKER_H_

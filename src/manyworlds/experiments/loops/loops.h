@@ -2,8 +2,8 @@
 //   off_policy.cc  SAC family: act, store transitions, replay updates per step
 //   on_policy.cc   any OnPolicyLearner: rounds into a rollout buffer, one update
 //   pearl_loop.cc  PEARL: prior and posterior rounds per task, per-task replay updates
-#ifndef MANYWORLDS_EXPERIMENTS_LOOPS_H_
-#define MANYWORLDS_EXPERIMENTS_LOOPS_H_
+#ifndef MANYWORLDS_EXPERIMENTS_LOOPS_LOOPS_H_
+#define MANYWORLDS_EXPERIMENTS_LOOPS_LOOPS_H_
 
 #include <cstdint>
 #include <memory>
@@ -45,4 +45,4 @@ std::unique_ptr<Algorithm> MakeOnPolicy(const AlgorithmSetup& setup) {
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_LOOPS_H_
+#endif  // MANYWORLDS_EXPERIMENTS_LOOPS_LOOPS_H_

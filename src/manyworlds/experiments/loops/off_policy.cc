@@ -15,12 +15,13 @@
 #include <vector>
 
 #include "manyworlds/agents/replay_buffer.h"
-#include "manyworlds/agents/sac.h"
+#include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/experiments/checkpoint_io.h"
+#include "manyworlds/experiments/loops/loops.h"
 #include "manyworlds/experiments/metric_means.h"
+#include "manyworlds/experiments/run/checkpoint_io.h"
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::experiments {
@@ -37,8 +38,7 @@ class OffPolicyAlgorithm : public Algorithm {
         num_tasks_(s.num_tasks),
         round_length_(s.round_length) {
     const uint64_t seed = config_.experiment.seed;
-    agents::SacConfig agent = config_.agent.sac();
-    agent.seed = MixSeed(MixSeed(seed, kAgentStream), agent.seed);
+    const agents::SacConfig agent = SeededAgentConfig<agents::SacConfig>(s);
     batch_size_ = config_.TotalBatchSize(num_tasks_);
     sampling_ = agents::ParseReplaySampling(config_.replay.sampling);
     if (sampling_ == agents::ReplaySampling::kBalanced && batch_size_ % num_tasks_ != 0) {

@@ -1,4 +1,4 @@
-// The on-policy family's loop (PPO, TRPO, TE-PPO): each iteration collects
+// The on-policy family's loop (PPO, TRPO, TE-PPO, RL2, MAML): each iteration collects
 // agent.rollout_rounds rounds of every env into a rollout buffer with the
 // sampling policy (one batched forward pass per step, inference mode), cuts
 // the episodes still running at the end of each round (they bootstrap from
@@ -11,21 +11,16 @@
 // actor sees every step's outcome (Observe) to build its context.
 // Checkpoint files: learner.pt (learner and torch generators).
 #include <chrono>
-#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "manyworlds/agents/maml/maml.h"
-#include "manyworlds/agents/ppo/ppo.h"
-#include "manyworlds/agents/rl2/rl2.h"
-#include "manyworlds/agents/te_ppo/te_ppo.h"
-#include "manyworlds/agents/trpo/trpo.h"
+#include "manyworlds/agents/learner.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/experiments/algorithms.h"
-#include "manyworlds/experiments/checkpoint_io.h"
+#include "manyworlds/experiments/loops/loops.h"
+#include "manyworlds/experiments/run/checkpoint_io.h"
 #include "manyworlds/rl/generator.h"
 #include "manyworlds/rl/rollout_buffer.h"
 
@@ -186,7 +181,9 @@ class OnPolicyAlgorithm : public Algorithm {
   std::vector<float> actions_;
 };
 
-agents::PolicySpaces Spaces(const AlgorithmSetup& s) {
+}  // namespace
+
+agents::PolicySpaces SetupSpaces(const AlgorithmSetup& s) {
   agents::PolicySpaces spaces;
   spaces.obs_dim = s.facts.obs_dim;
   spaces.action_dim = s.facts.action_dim;
@@ -195,61 +192,10 @@ agents::PolicySpaces Spaces(const AlgorithmSetup& s) {
   return spaces;
 }
 
-template <class Config>
-Config Seeded(const AlgorithmSetup& s) {
-  Config c = s.config.agent.as<Config>();
-  c.seed = MixSeed(MixSeed(s.config.experiment.seed, kAgentStream), c.seed);
-  return c;
-}
-
-}  // namespace
-
-std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup);
-std::unique_ptr<Algorithm> MakePearlAlgorithm(const AlgorithmSetup& setup);
-
-namespace {
-
-// Rounds per iteration: rollout_rounds, or one trial for RL2.
-template <class Config>
-int64_t RoundsPerIteration(const Config& c) {
-  return c.rollout_rounds;
-}
-int64_t RoundsPerIteration(const agents::Rl2Config& c) { return c.episodes_per_trial; }
-int64_t RoundsPerIteration(const agents::MamlConfig& c) { return 2 * c.episodes_per_task; }
-
-template <class Learner, class Config>
-std::unique_ptr<Algorithm> MakeOnPolicy(const AlgorithmSetup& setup) {
-  const auto c = Seeded<Config>(setup);
-  return std::make_unique<OnPolicyAlgorithm>(setup, std::make_unique<Learner>(c, Spaces(setup)),
-                                             RoundsPerIteration(c));
-}
-
-using AlgorithmBuilder = std::unique_ptr<Algorithm> (*)(const AlgorithmSetup&);
-
-// Every name of the registry (algorithms.cc) and what builds it.
-const std::map<std::string, AlgorithmBuilder>& Builders() {
-  static const std::map<std::string, AlgorithmBuilder> builders = {
-      {"sac", &MakeOffPolicyAlgorithm},
-      {"ppo", &MakeOnPolicy<agents::PpoLearner, agents::PpoConfig>},
-      {"trpo", &MakeOnPolicy<agents::TrpoLearner, agents::TrpoConfig>},
-      {"te_ppo", &MakeOnPolicy<agents::TePpoLearner, agents::TePpoConfig>},
-      {"rl2", &MakeOnPolicy<agents::Rl2Learner, agents::Rl2Config>},
-      {"maml", &MakeOnPolicy<agents::MamlLearner, agents::MamlConfig>},
-      {"pearl", &MakePearlAlgorithm},
-  };
-  return builders;
-}
-
-}  // namespace
-
-std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup) {
-  const std::string algo = setup.config.agent.algo();
-  const auto it = Builders().find(algo);
-  if (it == Builders().end()) {
-    FindAlgorithm(algo);  // throws for an unknown name
-    throw ConfigError("agent.algo '" + algo + "' has no implementation");
-  }
-  return it->second(setup);
+std::unique_ptr<Algorithm> MakeOnPolicyAlgorithm(const AlgorithmSetup& setup,
+                                                 std::unique_ptr<agents::OnPolicyLearner> learner,
+                                                 int64_t rounds) {
+  return std::make_unique<OnPolicyAlgorithm>(setup, std::move(learner), rounds);
 }
 
 }  // namespace manyworlds::experiments

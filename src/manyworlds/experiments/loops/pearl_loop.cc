@@ -43,8 +43,9 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/experiments/algorithm.h"
-#include "manyworlds/experiments/checkpoint_io.h"
+#include "manyworlds/experiments/loops/loops.h"
 #include "manyworlds/experiments/metric_means.h"
+#include "manyworlds/experiments/run/checkpoint_io.h"
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::experiments {
@@ -68,8 +69,7 @@ class PearlAlgorithm : public Algorithm {
           "'experiment.updates_per_step' and 'experiment.batch_size' do not apply to pearl; "
           "set agent.updates_per_iteration, agent.meta_batch and agent.batch_size");
     }
-    agents::PearlConfig agent = config_.agent.as<agents::PearlConfig>();
-    agent.seed = MixSeed(MixSeed(config_.experiment.seed, kAgentStream), agent.seed);
+    const agents::PearlConfig agent = SeededAgentConfig<agents::PearlConfig>(s);
     learner_ = std::make_unique<agents::PearlLearner>(agent, facts_.obs_dim, facts_.action_dim);
     for (const TaskSpec& task : s.tasks.tasks) {
       key_offset_.push_back(num_keys_);

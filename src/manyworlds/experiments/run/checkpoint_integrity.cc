@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 
 #include <zlib.h>
 
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/experiments/run/run_dir.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -238,13 +239,7 @@ ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
     throw ConfigError("'" + dir.string() + "' is not a directory, so run '" + run_dir.string() +
                       "' has no checkpoint");
   }
-  std::vector<fs::path> found;
-  if (fs::is_directory(dir)) {
-    for (const auto& entry : fs::directory_iterator(dir)) {
-      const std::string name = entry.path().filename().string();
-      if (entry.is_directory() && name.rfind("step_", 0) == 0) found.push_back(entry.path());
-    }
-  }
+  std::vector<fs::path> found = ListCheckpoints(run_dir);
   if (found.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
   std::sort(found.rbegin(), found.rend());
   ChosenCheckpoint chosen;

@@ -4,8 +4,8 @@
 // of its own content, so a flipped bit, a truncated file, an edited
 // state.json or a changed config.yaml is found before anything is loaded.
 // Checkpoints written before these fields existed are accepted unchecked.
-#ifndef MANYWORLDS_EXPERIMENTS_CHECKPOINT_INTEGRITY_H_
-#define MANYWORLDS_EXPERIMENTS_CHECKPOINT_INTEGRITY_H_
+#ifndef MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_INTEGRITY_H_
+#define MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_INTEGRITY_H_
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -49,4 +49,4 @@ void VerifyCheckpoint(const std::filesystem::path& checkpoint_dir,
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_CHECKPOINT_INTEGRITY_H_
+#endif  // MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_INTEGRITY_H_

@@ -1,10 +1,9 @@
-#include "manyworlds/experiments/checkpoint_io.h"
+#include "manyworlds/experiments/run/checkpoint_io.h"
 
 #include <sstream>
 #include <string>
 
 #include "manyworlds/core/atomic_file.h"
-
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::experiments {

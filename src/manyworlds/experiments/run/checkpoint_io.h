@@ -1,7 +1,7 @@
 // Reading and writing the torch archive of a checkpoint with errors that
 // name the file (shared by the algorithm families).
-#ifndef MANYWORLDS_EXPERIMENTS_CHECKPOINT_IO_H_
-#define MANYWORLDS_EXPERIMENTS_CHECKPOINT_IO_H_
+#ifndef MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_IO_H_
+#define MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_IO_H_
 
 #include <filesystem>
 #include <functional>
@@ -18,4 +18,4 @@ void ReadArchive(const std::filesystem::path& file,
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_CHECKPOINT_IO_H_
+#endif  // MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_IO_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/run_dir.h"
+#include "manyworlds/experiments/run/run_dir.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -13,7 +13,7 @@
 #include "manyworlds/config/yaml.h"
 #include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 #include "manyworlds/nn/threads.h"
 
 namespace manyworlds::experiments {
@@ -66,8 +66,8 @@ void RefuseExistingRun(const fs::path& run_dir) {
   const RunPaths paths{run_dir};
   // an empty checkpoints/ without config.yaml is a creation cut short
   std::error_code ec;
-  const bool empty_checkpoints = fs::is_directory(paths.checkpoints(), ec) &&
-                                 fs::is_empty(paths.checkpoints(), ec) && !ec;
+  const bool empty_checkpoints =
+      fs::is_directory(paths.checkpoints(), ec) && fs::is_empty(paths.checkpoints(), ec) && !ec;
   if (fs::exists(paths.config()) ||
       (fs::exists(fs::symlink_status(paths.checkpoints())) && !empty_checkpoints)) {
     throw ConfigError("run directory '" + run_dir.string() +
@@ -106,8 +106,7 @@ void RemoveStaleTemporaries(const fs::path& run_dir) {
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
       const std::string name = entry.path().filename().string();
       const bool temp_file = name.size() > 1 && name[0] == '.' &&
-                             name.find(".tmp.") != std::string::npos &&
-                             entry.is_regular_file(ec);
+                             name.find(".tmp.") != std::string::npos && entry.is_regular_file(ec);
       const bool temp_checkpoint = name.rfind(std::string(".tmp_") + kCheckpointPrefix, 0) == 0;
       if (temp_file || temp_checkpoint) stale.push_back(entry.path());
     }
@@ -136,8 +135,7 @@ std::vector<fs::path> ListCheckpoints(const fs::path& run_dir) {
   return found;
 }
 
-fs::path WriteCheckpoint(const fs::path& run_dir, int64_t step, int64_t keep,
-                         nlohmann::json state,
+fs::path WriteCheckpoint(const fs::path& run_dir, int64_t step, int64_t keep, nlohmann::json state,
                          const std::function<void(const fs::path&, nlohmann::json&)>& write_files) {
   const fs::path dir = RunPaths{run_dir}.checkpoints();
   fs::create_directories(dir);
@@ -182,8 +180,8 @@ nlohmann::json ReadCheckpointState(const fs::path& checkpoint) {
     return nlohmann::json::parse(ReadText(checkpoint / "state.json"));
   } catch (const std::exception& e) {
     const std::string what = e.what();
-    throw Error("checkpoint '" + checkpoint.string() + "': unreadable state.json: " +
-                what.substr(0, what.find('\n')));
+    throw Error("checkpoint '" + checkpoint.string() +
+                "': unreadable state.json: " + what.substr(0, what.find('\n')));
   }
 }
 
@@ -211,8 +209,8 @@ std::optional<std::string> ThreadCountMismatch(const fs::path& checkpoint,
   const int64_t torch_then = record.value("torch_intra_op", int64_t{-1});
   const int64_t blas_then = record.value("blas_threads", int64_t{-1});
   if (torch_then == now.torch_intra_op && blas_then == now.blas_threads) return std::nullopt;
-  return "checkpoint '" + checkpoint.string() + "' was written with " +
-         std::to_string(blas_then) + " BLAS thread(s) and " + std::to_string(torch_then) +
+  return "checkpoint '" + checkpoint.string() + "' was written with " + std::to_string(blas_then) +
+         " BLAS thread(s) and " + std::to_string(torch_then) +
          " torch thread(s); this process has " + std::to_string(now.blas_threads) + " and " +
          std::to_string(now.torch_intra_op);
 }
@@ -226,7 +224,8 @@ std::optional<std::string> EvaluationThreadWarning(const fs::path& checkpoint) {
     const nlohmann::json& saved = state["threads"];
     const auto mismatch = ThreadCountMismatch(checkpoint, saved);
     if (!mismatch) return std::nullopt;
-    return *mismatch + ": the numbers may differ from the run's own evaluations in the "
+    return *mismatch +
+           ": the numbers may differ from the run's own evaluations in the "
            "rounding, and sampled episodes then diverge; OPENBLAS_NUM_THREADS=" +
            std::to_string(saved.value("blas_threads", int64_t{-1})) + " reproduces them";
   } catch (const std::exception&) {
@@ -236,7 +235,8 @@ std::optional<std::string> EvaluationThreadWarning(const fs::path& checkpoint) {
 
 void FsyncPath(const fs::path& path, bool directory) {
   const int fd = ::open(path.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
-  if (fd < 0) throw Error("cannot open '" + path.string() + "' to sync it: " + std::strerror(errno));
+  if (fd < 0)
+    throw Error("cannot open '" + path.string() + "' to sync it: " + std::strerror(errno));
   const int synced = ::fsync(fd);
   const int error = errno;
   ::close(fd);

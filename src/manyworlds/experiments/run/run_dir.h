@@ -15,20 +15,19 @@
 //                            synced, then renamed)
 //   checkpoints/latest       name of the newest complete checkpoint
 //   summary.json             final evaluation, wall time, rates (when finished)
-#ifndef MANYWORLDS_EXPERIMENTS_RUN_DIR_H_
-#define MANYWORLDS_EXPERIMENTS_RUN_DIR_H_
+#ifndef MANYWORLDS_EXPERIMENTS_RUN_RUN_DIR_H_
+#define MANYWORLDS_EXPERIMENTS_RUN_RUN_DIR_H_
 
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "manyworlds/experiments/run_lock.h"
+#include "manyworlds/experiments/run/run_lock.h"
 #include "manyworlds/experiments/task_set.h"
 #include "manyworlds/experiments/train_config.h"
 
@@ -124,4 +123,4 @@ void FsyncPath(const std::filesystem::path& path, bool directory);
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_RUN_DIR_H_
+#endif  // MANYWORLDS_EXPERIMENTS_RUN_RUN_DIR_H_

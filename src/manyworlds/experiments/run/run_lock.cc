@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/run_lock.h"
+#include "manyworlds/experiments/run/run_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>

@@ -2,8 +2,8 @@
 // two `manyworlds train` processes can never write the same run (an advisory
 // flock on RUN_DIR/.lock: released by the kernel when the process ends, even
 // by kill -9, so a stale lock never locks the user out).
-#ifndef MANYWORLDS_EXPERIMENTS_RUN_LOCK_H_
-#define MANYWORLDS_EXPERIMENTS_RUN_LOCK_H_
+#ifndef MANYWORLDS_EXPERIMENTS_RUN_RUN_LOCK_H_
+#define MANYWORLDS_EXPERIMENTS_RUN_RUN_LOCK_H_
 
 #include <filesystem>
 
@@ -27,4 +27,4 @@ class RunLock {
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_RUN_LOCK_H_
+#endif  // MANYWORLDS_EXPERIMENTS_RUN_RUN_LOCK_H_

@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/run_log.h"
+#include "manyworlds/experiments/run/run_log.h"
 
 #include <algorithm>
 #include <fstream>

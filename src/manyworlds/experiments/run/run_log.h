@@ -6,8 +6,8 @@
 // cell. CSV columns are "step" then the keys in first-seen order: when a row brings a new
 // key, the CSV is rewritten from the JSON lines (atomically), so every row
 // has every column.
-#ifndef MANYWORLDS_EXPERIMENTS_RUN_LOG_H_
-#define MANYWORLDS_EXPERIMENTS_RUN_LOG_H_
+#ifndef MANYWORLDS_EXPERIMENTS_RUN_RUN_LOG_H_
+#define MANYWORLDS_EXPERIMENTS_RUN_RUN_LOG_H_
 
 #include <cstdint>
 #include <filesystem>
@@ -52,4 +52,4 @@ class RunLog {
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_RUN_LOG_H_
+#endif  // MANYWORLDS_EXPERIMENTS_RUN_RUN_LOG_H_

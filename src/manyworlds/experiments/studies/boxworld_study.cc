@@ -1,4 +1,4 @@
-#include "manyworlds/experiments/boxworld_study.h"
+#include "manyworlds/experiments/studies/boxworld_study.h"
 
 #include <algorithm>
 #include <chrono>
@@ -8,11 +8,13 @@
 #include <map>
 #include <sstream>
 
+#include "manyworlds/config/reader.h"
+#include "manyworlds/config/yaml.h"
 #include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
-#include "manyworlds/experiments/meta_test_protocol.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -150,28 +152,26 @@ const std::vector<std::string>& PaperMethods() {
   return methods;
 }
 
-std::optional<PaperNumbers> PaperResult(const std::string& task, const std::string& method) {
-  // Tables 1 and 2 of the paper (Malde and Elabd 2022)
-  static const std::map<std::string, std::map<std::string, PaperNumbers>> table = {
-      {"simple",
-       {{"baseline", {-2.24, 1.12, 0.0}},
-        {"maml", {37.53, 49.82, 0.589}},
-        {"pearl", {64.64, 47.67, 0.662}},
-        {"multitask", {99.87, 1.19e-6, 0.929}},
-        {"finetune", {49.64, 41.38, 0.392}},
-        {"oracle", {100.00, 0.00, 1.0}}}},
-      {"complex",
-       {{"baseline", {-2.86, 0.446, 0.0}},
-        {"maml", {17.59, 41.20, 0.118}},
-        {"pearl", {6.13, 6.33, 0.056}},
-        {"multitask", {-1.23, 8.28, 0.049}},
-        {"finetune", {-1.35, 1.03, 0.0}},
-        {"oracle", {99.14, 0.04, 0.987}}}}};
-  const auto t = table.find(task);
-  if (t == table.end()) return std::nullopt;
-  const auto m = t->second.find(method);
-  if (m == t->second.end()) return std::nullopt;
-  return m->second;
+std::filesystem::path PublishedResultsFile(const StudyOptions& options) {
+  return options.config_dir / "published" / "boxworld_study.yaml";
+}
+
+std::optional<PaperNumbers> PaperResult(const StudyOptions& options, const std::string& method) {
+  const fs::path file = PublishedResultsFile(options);
+  if (!fs::exists(file)) return std::nullopt;
+  const nlohmann::json table = LoadYamlFile(file);
+  if (!table.is_object() || !table.contains(options.task) || !table[options.task].is_object() ||
+      !table[options.task].contains(method)) {
+    return std::nullopt;
+  }
+  const std::string where = file.string() + ": " + options.task + "." + method;
+  ConfigReader r(table[options.task][method], where);
+  PaperNumbers numbers;
+  r.Read("mean_reward", numbers.mean_reward);
+  r.Read("std_reward", numbers.std_reward);
+  r.Read("success", numbers.success);
+  r.Finish();
+  return numbers;
 }
 
 void ValidateStudyOptions(const StudyOptions& o) {
@@ -286,7 +286,7 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
     if (fs::exists(result_file)) {
       std::ifstream in(result_file);
       StudyRow row = StudyRow::FromJson(nlohmann::json::parse(in));
-      row.paper = PaperResult(options.task, method);
+      row.paper = PaperResult(options, method);
       if (callbacks.on_row) callbacks.on_row(row, true);
       rows.push_back(row);
       continue;
@@ -359,7 +359,7 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
     row.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
     fs::create_directories(result_file.parent_path());
     AtomicWriteFile(result_file, row.ToJson().dump(2) + "\n");
-    row.paper = PaperResult(options.task, method);
+    row.paper = PaperResult(options, method);
     if (callbacks.on_row) callbacks.on_row(row, false);
     rows.push_back(row);
   }

@@ -34,8 +34,8 @@
 // exists is not run again (a killed study resumes); an unfinished run is
 // resumed from its last checkpoint. Nothing here prints: progress goes to
 // callbacks.
-#ifndef MANYWORLDS_EXPERIMENTS_BOXWORLD_STUDY_H_
-#define MANYWORLDS_EXPERIMENTS_BOXWORLD_STUDY_H_
+#ifndef MANYWORLDS_EXPERIMENTS_STUDIES_BOXWORLD_STUDY_H_
+#define MANYWORLDS_EXPERIMENTS_STUDIES_BOXWORLD_STUDY_H_
 
 #include <cstdint>
 #include <filesystem>
@@ -84,7 +84,7 @@ struct StudyOptions {
 inline constexpr double kPaperBoxStartGap = 0.1;
 std::string StudyLayout(const StudyOptions& options);
 
-// The paper's Tables 1-2; absent for methods it did not run.
+// Published numbers (PaperResult); absent for methods the paper did not run.
 struct PaperNumbers {
   double mean_reward = 0.0;
   double std_reward = 0.0;
@@ -121,7 +121,12 @@ struct StudyCallbacks {
 // The methods in table order: the paper's six, then rl2.
 const std::vector<std::string>& StudyMethods();
 const std::vector<std::string>& PaperMethods();
-std::optional<PaperNumbers> PaperResult(const std::string& task, const std::string& method);
+// The published numbers of a method on options.task, read from
+// PublishedResultsFile (configs/published/boxworld_study.yaml: the paper's
+// Tables 1-2); nothing for a method the paper did not run or without the
+// file. ConfigError naming the entry if it is malformed.
+std::filesystem::path PublishedResultsFile(const StudyOptions& options);
+std::optional<PaperNumbers> PaperResult(const StudyOptions& options, const std::string& method);
 
 // ConfigError (one line) for a bad task, method, distribution or budget.
 void ValidateStudyOptions(const StudyOptions& options);
@@ -152,4 +157,4 @@ void WriteStudyTables(const std::vector<StudyRow>& rows, const StudyOptions& opt
 
 }  // namespace manyworlds::experiments
 
-#endif  // MANYWORLDS_EXPERIMENTS_BOXWORLD_STUDY_H_
+#endif  // MANYWORLDS_EXPERIMENTS_STUDIES_BOXWORLD_STUDY_H_
