@@ -48,14 +48,43 @@ function(manyworlds_glob_sources out)
   set(${out} ${files} PARENT_SCOPE)
 endfunction()
 
-# manyworlds_tests(<dir> LIBS ...): one GoogleTest executable per *_test.cc.
+# manyworlds_tests(LIBS ... [DEFAULT_LABELS ...] [LABELS <file>=<label>,... ...]): one
+# GoogleTest executable per *_test.cc, its tests labelled for `ctest -L`:
+#   unit      fast checks of one piece (the default, unless DEFAULT_LABELS; the cli area's is cli)
+#   cli       runs the built `manyworlds` program
+#   learning  trains a learner to a threshold
+#   fidelity  checks numbers against the official packages' recorded values
+#   slow      takes more than about 20 s on two cores (left out of the quick suite)
+# e.g. LABELS learning_test=learning,slow (a comma separates labels).
 function(manyworlds_tests)
-  cmake_parse_arguments(ARG "" "" "LIBS" ${ARGN})
+  cmake_parse_arguments(ARG "" "" "LIBS;LABELS;DEFAULT_LABELS" ${ARGN})
+  get_filename_component(area ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+  if(ARG_DEFAULT_LABELS)
+    set(default_labels ${ARG_DEFAULT_LABELS})
+  elseif(area STREQUAL "cli")
+    set(default_labels cli)
+  else()
+    set(default_labels unit)
+  endif()
   file(GLOB tests CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*_test.cc)
+  # a label for a file that is gone is a mistake, not a no-op
+  foreach(entry IN LISTS ARG_LABELS)
+    string(REGEX REPLACE "=.*$" "" labelled "${entry}")
+    if(NOT EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/${labelled}.cc)
+      message(FATAL_ERROR "manyworlds_tests LABELS: no ${labelled}.cc in ${CMAKE_CURRENT_SOURCE_DIR}")
+    endif()
+  endforeach()
   foreach(file IN LISTS tests)
     get_filename_component(name ${file} NAME_WE)
-    get_filename_component(area ${CMAKE_CURRENT_SOURCE_DIR} NAME)
     set(target ${area}_${name})
+    set(labels ${default_labels})
+    foreach(entry IN LISTS ARG_LABELS)
+      if(entry MATCHES "^${name}=(.+)$")
+        string(REPLACE "," ";" labels "${CMAKE_MATCH_1}")
+      endif()
+    endforeach()
+    # a list inside PROPERTIES must keep its separators
+    string(REPLACE ";" "\\;" labels "${labels}")
     add_executable(${target} ${file})
     target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
     # Test helpers are included as "tests/<area>/<file>.h".
@@ -68,6 +97,7 @@ function(manyworlds_tests)
     # Tests that need more threads set them (nn::SetThreads).
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
       PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
-                 ENVIRONMENT_MODIFICATION "OPENBLAS_NUM_THREADS=set:1")
+                 ENVIRONMENT_MODIFICATION "OPENBLAS_NUM_THREADS=set:1"
+                 LABELS "${labels}")
   endforeach()
 endfunction()

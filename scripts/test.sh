@@ -8,13 +8,34 @@
 # (scripts/sanitize.sh, build-asan/). Idempotent; MANYWORLDS_BUILD_DIR picks
 # another build directory (default build/). Exits non-zero if any suite
 # fails; all always run.
+#
+# scripts/test.sh --quick: the edit-compile-test loop. The same build, then
+# only the C++ tests not labelled slow (ctest -LE slow: the unit tests, the
+# fast CLI and fidelity tests; no learning runs, no Python, fuzzing or
+# sanitizer build). docs/contributing.md lists the labels.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${MANYWORLDS_BUILD_DIR:-build}
+quick=0
+for arg in "$@"; do
+  case "$arg" in
+    --quick) quick=1 ;;
+    -h|--help)
+      echo "usage: scripts/test.sh [--quick]  (--quick: only the C++ tests not labelled slow)"
+      exit 0 ;;
+    *) echo "test.sh: unknown argument '$arg'; allowed: --quick, --help" >&2; exit 2 ;;
+  esac
+done
 
 bash scripts/setup.sh
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DMANYWORLDS_BUILD_TESTS=ON
+launcher=()
+# ccache, where installed, makes the rebuilds of the edit-compile-test loop cheap
+if command -v ccache > /dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DMANYWORLDS_BUILD_TESTS=ON "${launcher[@]}"
 cmake --build "$build_dir" -j"$(nproc)"
+if [ "$quick" -eq 1 ]; then
+  exec ctest --test-dir "$build_dir" --output-on-failure -j2 -LE slow
+fi
 cpp_status=0
 ctest --test-dir "$build_dir" --output-on-failure -j2 || cpp_status=$?
 case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
