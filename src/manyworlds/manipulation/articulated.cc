@@ -103,6 +103,18 @@ double GripEffort(std::span<const float> action) {
   return (std::clamp(static_cast<double>(action[3]), -1.0, 1.0) + 1.0) / 2.0;
 }
 
+RewardTerms PressRewardTerms(const SawyerState& s, const PressReward& parts) {
+  RewardTerms terms;
+  terms.reward = parts.reward;
+  terms.success = parts.obj_to_target <= parts.success_radius;
+  terms.near_object = parts.tcp_to_obj <= 0.05 ? 1.0 : 0.0;
+  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
+  terms.grasp_reward = parts.near;
+  terms.in_place_reward = parts.pressed;
+  terms.obj_to_target = parts.obj_to_target;
+  return terms;
+}
+
 void GraspAndMove(const SawyerObs& o, const Vec3& grasp, const Vec3& move_to, double approach_grip,
                   std::span<float> action, double carry_speed, double approach_height) {
   const auto hand_for_tcp = [](const Vec3& tcp) {

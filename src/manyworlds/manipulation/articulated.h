@@ -76,6 +76,19 @@ class ArticulatedTask : public SawyerTask {
 // Gripper closing effort in [0, 1]: (clip(a[3], -1, 1) + 1) / 2.
 double GripEffort(std::span<const float> action);
 
+// The reward and info of the press and push tasks (buttons, door-lock,
+// door-unlock), which PressRewardTerms builds.
+struct PressReward {
+  double reward = 0;          // the shaped reward
+  double obj_to_target = 0;   // info obj_to_target
+  double success_radius = 0;  // success: obj_to_target within it
+  double tcp_to_obj = 0;      // near_object: within 5 cm
+  double near = 0;            // info grasp_reward
+  double pressed = 0;         // info in_place_reward
+};
+// grasp_success: the gripper is not shut.
+RewardTerms PressRewardTerms(const SawyerState& state, const PressReward& parts);
+
 // ---- Scripted-policy moves (stateless functions of the observation) ----
 
 // Grasps a handle at `grasp` with the tcp and then moves the grasp point

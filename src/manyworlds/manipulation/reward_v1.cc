@@ -69,14 +69,20 @@ void InitPickPlace(SawyerState& s, double obj_height, double lift) {
   s.v1_max_dist = Distance(lifted, s.goal) + s.v1_height_target;
 }
 
+RewardTerms ReachThenProgressStep(const SawyerState& s, double reach_dist, double dist,
+                                  double success_radius, double grasp_success, bool clamp) {
+  RewardTerms terms;
+  terms.reward = ReachThenProgress(reach_dist, s.v1_max_dist, dist, clamp);
+  terms.success = dist <= success_radius;
+  terms.near_object = 1.0;
+  terms.grasp_success = grasp_success;
+  terms.obj_to_target = dist;
+  return terms;
+}
+
 RewardTerms PushStep(const SawyerState& s, double success_radius) {
   const double push_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, push_dist);
-  terms.success = push_dist <= success_radius;
-  terms.near_object = 1.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return ReachThenProgressStep(s, Distance(s.obj, s.tcp), push_dist, success_radius);
 }
 
 void InitPush(SawyerState& s) {

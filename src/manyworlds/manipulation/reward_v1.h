@@ -67,6 +67,14 @@ RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double su
 // max_dist = |(obj_init.xy, height_target) - goal| + height_target.
 void InitPickPlace(SawyerState& s, double obj_height, double lift);
 
+// The v1 step of the push, pull, press and turn tasks: ReachThenProgress
+// (reach_dist, s.v1_max_dist, dist, clamp), and the info v3's evaluate_state
+// builds from v1's (reward, 0, 0, dist, 0, 0): success within
+// success_radius, near_object 1, grasp_success as given, obj_to_target dist.
+RewardTerms ReachThenProgressStep(const SawyerState& s, double reach_dist, double dist,
+                                  double success_radius, double grasp_success = 0.0,
+                                  bool clamp = true);
+
 // The v1 step of the push tasks (push, push-back, push-wall, soccer):
 // ReachThenProgress from the tcp-object distance and the object's distance
 // to the goal in xy, and the info v3's evaluate_state builds from v1's

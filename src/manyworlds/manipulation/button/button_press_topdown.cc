@@ -53,30 +53,17 @@ RewardTerms ButtonPressTopdown::ComputeReward(const SawyerState& s, std::span<co
   const double obj_to_target = std::abs(s.goal[2] - s.obj[2]);
   const double near_button = LongTailTolerance(tcp_to_obj, 0.0, 0.01, Distance(s.obj, s.tcp_init));
   const double pressed = LongTailTolerance(obj_to_target, 0.0, 0.005, s.obj_to_target_init);
-  RewardTerms terms;
-  terms.reward = 5.0 * HamacherProduct(1.0 - s.gripper_opening, near_button);
-  if (tcp_to_obj <= 0.03) terms.reward += 5.0 * pressed;
-  terms.success = obj_to_target <= kSuccess;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = near_button;
-  terms.in_place_reward = pressed;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = 5.0 * HamacherProduct(1.0 - s.gripper_opening, near_button);
+  if (tcp_to_obj <= 0.03) reward += 5.0 * pressed;
+  return PressRewardTerms(s, {.reward = reward, .obj_to_target = obj_to_target,
+                              .success_radius = kSuccess, .tcp_to_obj = tcp_to_obj,
+                              .near = near_button, .pressed = pressed});
 }
 
 RewardTerms ButtonPressTopdown::ComputeRewardV1(const SawyerState& s,
                                                  std::span<const float>) const {
-  const double press_dist = std::abs(s.obj[2] - s.goal[2]);
-  const double reach_dist = Distance(s.obj, s.tcp);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, press_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
-  terms.success = press_dist <= kSuccess;
-  terms.near_object = 1.0;
-  terms.grasp_success = 0.0;
-  terms.obj_to_target = press_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), std::abs(s.obj[2] - s.goal[2]),
+                                   kSuccess);
 }
 
 void ButtonPressTopdownScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

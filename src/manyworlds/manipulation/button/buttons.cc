@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "manyworlds/manipulation/reward_v1.h"
@@ -40,12 +41,26 @@ FrontTerms Front(const SawyerState& s) {
   return t;
 }
 
+RewardTerms FrontRewardTerms(const SawyerState& s, const FrontTerms& t, double reward, double near,
+                             double success_radius) {
+  return PressRewardTerms(s, {.reward = reward, .obj_to_target = t.obj_to_target,
+                              .success_radius = success_radius, .tcp_to_obj = t.tcp_to_obj,
+                              .near = near, .pressed = t.pressed});
+}
+
 }  // namespace
 
-SawyerTaskConfig FrontButtonTask::BaseConfig() {
+SawyerTaskConfig FrontButtonTask::Config(std::string id, std::string description,
+                                         std::string xml_file, Vec3 obj_low, Vec3 obj_high) {
   SawyerTaskConfig config;
+  config.id = std::move(id);
+  config.description = std::move(description);
+  config.xml_file = std::move(xml_file);
   config.hand_init = {0.0, 0.4, 0.2};
+  config.obj_low = obj_low;
+  config.obj_high = obj_high;
   config.obj_quat = QuatLayout::kWxyz;
+  UseGoalOffset(kGoalOffset, config);
   return config;
 }
 
@@ -59,25 +74,13 @@ void FrontButtonTask::InitTaskState(SawyerState& s) const {
 
 // The left finger's tip (not the tcp) reaches the button.
 RewardTerms FrontButtonRewardV1(const SawyerState& s, double success_radius) {
-  const double press_dist = std::abs(s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.left_finger), s.v1_max_dist, press_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
-  terms.success = press_dist <= success_radius;
-  terms.near_object = 1.0;
-  terms.obj_to_target = press_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.left_finger),
+                                   std::abs(s.obj[1] - s.goal[1]), success_radius);
 }
 
 SawyerTaskConfig ButtonPress::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "button-press";
-  config.description = "Sawyer arm: push a button on the front of a box";
-  config.xml_file = "button_press.xml";
-  config.obj_low = {-0.1, 0.85, 0.115};
-  config.obj_high = {0.1, 0.9, 0.115};
-  UseGoalOffset(kGoalOffset, config);
-  return config;
+  return FrontButtonTask::Config("button-press", "Sawyer arm: push a button on the front of a box",
+                                 "button_press.xml", {-0.1, 0.85, 0.115}, {0.1, 0.9, 0.115});
 }
 
 ButtonPress::ButtonPress(SawyerOptions options) : FrontButtonTask(Config(), options) {}
@@ -98,27 +101,15 @@ RewardTerms ButtonPress::ComputeRewardV1(const SawyerState& s, std::span<const f
 RewardTerms ButtonPressReward(const SawyerState& s) {
   const FrontTerms t = Front(s);
   const double near = LongTailTolerance(t.tcp_to_obj, 0.0, 0.05, t.tcp_to_obj_init);
-  RewardTerms terms;
-  terms.reward = 2.0 * HamacherProduct(std::max(s.gripper_opening, 0.0), near);
-  if (t.tcp_to_obj <= 0.05) terms.reward += 8.0 * t.pressed;
-  terms.success = t.obj_to_target <= 0.02;
-  terms.near_object = t.tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = near;
-  terms.in_place_reward = t.pressed;
-  terms.obj_to_target = t.obj_to_target;
-  return terms;
+  double reward = 2.0 * HamacherProduct(std::max(s.gripper_opening, 0.0), near);
+  if (t.tcp_to_obj <= 0.05) reward += 8.0 * t.pressed;
+  return FrontRewardTerms(s, t, reward, near, 0.02);
 }
 
 SawyerTaskConfig ButtonPressWall::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "button-press-wall";
-  config.description = "Sawyer arm: push a button on the front of a box behind a wall";
-  config.xml_file = "button_press_wall.xml";
-  config.obj_low = {-0.05, 0.85, 0.1149};
-  config.obj_high = {0.05, 0.9, 0.1151};
-  UseGoalOffset(kGoalOffset, config);
-  return config;
+  return FrontButtonTask::Config(
+      "button-press-wall", "Sawyer arm: push a button on the front of a box behind a wall",
+      "button_press_wall.xml", {-0.05, 0.85, 0.1149}, {0.05, 0.9, 0.1151});
 }
 
 ButtonPressWall::ButtonPressWall(SawyerOptions options) : FrontButtonTask(Config(), options) {}
@@ -136,19 +127,11 @@ RewardTerms ButtonPressWall::ComputeRewardV1(const SawyerState& s, std::span<con
 RewardTerms ButtonPressWall::ComputeReward(const SawyerState& s, std::span<const float>) const {
   const FrontTerms t = Front(s);
   const double near = LongTailTolerance(t.tcp_to_obj, 0.0, 0.01, t.tcp_to_obj_init);
-  RewardTerms terms;
-  if (t.tcp_to_obj > 0.07) {
-    terms.reward = 2.0 * HamacherProduct((1.0 - s.gripper_opening) / 2.0, near);
-  } else {
-    terms.reward = 2.0 + 2.0 * (1.0 + s.gripper_opening) + 4.0 * t.pressed * t.pressed;
-  }
-  terms.success = t.obj_to_target <= 0.03;
-  terms.near_object = t.tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = near;
-  terms.in_place_reward = t.pressed;
-  terms.obj_to_target = t.obj_to_target;
-  return terms;
+  const double reward =
+      t.tcp_to_obj > 0.07
+          ? 2.0 * HamacherProduct((1.0 - s.gripper_opening) / 2.0, near)
+          : 2.0 + 2.0 * (1.0 + s.gripper_opening) + 4.0 * t.pressed * t.pressed;
+  return FrontRewardTerms(s, t, reward, near, 0.03);
 }
 
 SawyerTaskConfig ButtonPressTopdownWall::Config() {

@@ -39,6 +39,8 @@
 #ifndef MANYWORLDS_MANIPULATION_BUTTON_BUTTONS_H_
 #define MANYWORLDS_MANIPULATION_BUTTON_BUTTONS_H_
 
+#include <string>
+
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/articulated.h"
 #include "manyworlds/manipulation/button/button_press_topdown.h"
@@ -51,7 +53,9 @@ class FrontButtonTask : public ArticulatedTask {
   FrontButtonTask(SawyerTaskConfig config, SawyerOptions options);
   // Also obj_to_target_init.
   void InitTaskState(SawyerState& state) const override;
-  static SawyerTaskConfig BaseConfig();
+  // The front buttons' config: hand start, cap orientation and goal offset shared.
+  static SawyerTaskConfig Config(std::string id, std::string description, std::string xml_file,
+                                 Vec3 obj_low, Vec3 obj_high);
 };
 
 class ButtonPress : public FrontButtonTask {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "manyworlds/manipulation/coffee/coffee.h"
@@ -33,9 +34,19 @@ constexpr double kHeld = 0.02;
 
 }  // namespace
 
-SawyerTaskConfig CoffeeMugTask::BaseConfig() {
+SawyerTaskConfig CoffeeMugTask::Config(std::string id, std::string description,
+                                       std::string xml_file, bool machine_at_goal) {
+  constexpr Vec3 kAwayLow{-0.1, 0.55, -0.001}, kAwayHigh{0.1, 0.65, 0.001};
+  constexpr Vec3 kAtMachineLow{-0.05, 0.7, -0.001}, kAtMachineHigh{0.05, 0.75, 0.001};
   SawyerTaskConfig config;
+  config.id = std::move(id);
+  config.description = std::move(description);
+  config.xml_file = std::move(xml_file);
   config.hand_init = {0.0, 0.4, 0.2};
+  config.obj_low = machine_at_goal ? kAwayLow : kAtMachineLow;
+  config.obj_high = machine_at_goal ? kAwayHigh : kAtMachineHigh;
+  config.goal_low = machine_at_goal ? kAtMachineLow : kAwayLow;
+  config.goal_high = machine_at_goal ? kAtMachineHigh : kAwayHigh;
   return config;
 }
 
@@ -113,29 +124,17 @@ RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const f
 }
 
 SawyerTaskConfig CoffeePush::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "coffee-push";
-  config.description = "Sawyer arm: move the mug to the front of the coffee machine";
-  config.xml_file = "coffee_push.xml";
-  config.obj_low = {-0.1, 0.55, -0.001};
-  config.obj_high = {0.1, 0.65, 0.001};
-  config.goal_low = {-0.05, 0.7, -0.001};
-  config.goal_high = {0.05, 0.75, 0.001};
-  return config;
+  return CoffeeMugTask::Config("coffee-push",
+                               "Sawyer arm: move the mug to the front of the coffee machine",
+                               "coffee_push.xml", /*machine_at_goal=*/true);
 }
 
 CoffeePush::CoffeePush(SawyerOptions options) : CoffeeMugTask(Config(), true, options) {}
 
 SawyerTaskConfig CoffeePull::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "coffee-pull";
-  config.description = "Sawyer arm: move the mug away from the coffee machine";
-  config.xml_file = "coffee_pull.xml";
-  config.obj_low = {-0.05, 0.7, -0.001};
-  config.obj_high = {0.05, 0.75, 0.001};
-  config.goal_low = {-0.1, 0.55, -0.001};
-  config.goal_high = {0.1, 0.65, 0.001};
-  return config;
+  return CoffeeMugTask::Config("coffee-pull",
+                               "Sawyer arm: move the mug away from the coffee machine",
+                               "coffee_pull.xml", /*machine_at_goal=*/false);
 }
 
 CoffeePull::CoffeePull(SawyerOptions options) : CoffeeMugTask(Config(), false, options) {}

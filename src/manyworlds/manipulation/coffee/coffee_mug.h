@@ -35,6 +35,8 @@
 #ifndef MANYWORLDS_MANIPULATION_COFFEE_COFFEE_MUG_H_
 #define MANYWORLDS_MANIPULATION_COFFEE_COFFEE_MUG_H_
 
+#include <string>
+
 #include "manyworlds/core/policy.h"
 #include "manyworlds/manipulation/sawyer_task.h"
 
@@ -50,7 +52,10 @@ class CoffeeMugTask : public SawyerTask {
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
   void PlaceObjects(mjModel* m, mjData* d) override;
-  static SawyerTaskConfig BaseConfig();
+  // The ranges: the mug goes between the front of the machine and a spot
+  // away from it, toward the machine when machine_at_goal.
+  static SawyerTaskConfig Config(std::string id, std::string description, std::string xml_file,
+                                 bool machine_at_goal);
 
  private:
   bool machine_at_goal_;

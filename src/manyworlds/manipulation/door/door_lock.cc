@@ -22,8 +22,10 @@ constexpr double kSuccess = 0.02;
 constexpr double kSiteSide = 0.01;
 constexpr double kSiteAlong = 0.09;
 
-SawyerTaskConfig BaseConfig() {
+SawyerTaskConfig LockConfig(const char* id, const char* description, const Vec3& goal_offset) {
   SawyerTaskConfig config;
+  config.id = id;
+  config.description = description;
   config.xml_file = "door_lock.xml";
   config.hand_init = {0.0, 0.6, 0.2};
   config.hand_low = {-0.5, 0.4, -0.15};
@@ -32,6 +34,7 @@ SawyerTaskConfig BaseConfig() {
   config.obj_high = {0.1, 0.85, 0.15};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "door";
+  UseGoalOffset(goal_offset, config);
   return config;
 }
 
@@ -74,22 +77,11 @@ void DoorLockTask::InitTaskState(SawyerState& state) const {
 }
 
 RewardTerms DoorLockTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double pull_dist = Distance(s.obj, s.goal);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= kSuccess;
-  terms.near_object = 1.0;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), Distance(s.obj, s.goal), kSuccess);
 }
 
 SawyerTaskConfig DoorLock::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "door-lock";
-  config.description = "Sawyer arm: turn a door's lock down";
-  UseGoalOffset(kLockGoal, config);
-  return config;
+  return LockConfig("door-lock", "Sawyer arm: turn a door's lock down", kLockGoal);
 }
 
 DoorLock::DoorLock(SawyerOptions options)
@@ -100,24 +92,15 @@ RewardTerms DoorLock::ComputeReward(const SawyerState& s, std::span<const float>
   const double obj_to_target = std::abs(s.goal[2] - s.obj[2]);
   const double near_lock = LongTailTolerance(tcp_to_obj, 0.0, 0.01, tcp_to_obj);
   const double pressed = LongTailTolerance(obj_to_target, 0.0, 0.005, kLockLength);
-  RewardTerms terms;
-  terms.reward =
+  const double reward =
       2.0 * HamacherProduct(std::max(s.gripper_opening, 0.0), near_lock) + 8.0 * pressed;
-  terms.success = obj_to_target <= kSuccess;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = near_lock;
-  terms.in_place_reward = pressed;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return PressRewardTerms(s, {.reward = reward, .obj_to_target = obj_to_target,
+                              .success_radius = kSuccess, .tcp_to_obj = tcp_to_obj,
+                              .near = near_lock, .pressed = pressed});
 }
 
 SawyerTaskConfig DoorUnlock::Config() {
-  SawyerTaskConfig config = BaseConfig();
-  config.id = "door-unlock";
-  config.description = "Sawyer arm: turn a door's lock back up";
-  UseGoalOffset(kUnlockGoal, config);
-  return config;
+  return LockConfig("door-unlock", "Sawyer arm: turn a door's lock back up", kUnlockGoal);
 }
 
 DoorUnlock::DoorUnlock(SawyerOptions options)
@@ -134,15 +117,9 @@ RewardTerms DoorUnlock::ComputeReward(const SawyerState& s, std::span<const floa
                                          WeightedDistance(shoulder_init, s.obj_init, kScale));
   const double obj_to_target = std::abs(s.goal[0] - s.obj[0]);
   const double pushed = LongTailTolerance(obj_to_target, 0.0, 0.005, kLockLength);
-  RewardTerms terms;
-  terms.reward = 2.0 * ready + 8.0 * pushed;
-  terms.success = obj_to_target <= kSuccess;
-  terms.near_object = shoulder_to_lock <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = ready;
-  terms.in_place_reward = pushed;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return PressRewardTerms(s, {.reward = 2.0 * ready + 8.0 * pushed, .obj_to_target = obj_to_target,
+                              .success_radius = kSuccess, .tcp_to_obj = shoulder_to_lock,
+                              .near = ready, .pressed = pushed});
 }
 
 void DoorLockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -75,16 +75,8 @@ void DrawerTask::InitTaskState(SawyerState& s) const {
 }
 
 RewardTerms DrawerTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
-  const double reach_dist = Distance(s.obj, s.tcp);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, pull_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= v1_.success;
-  terms.near_object = 1.0;
-  terms.grasp_success = v1_.grasp_success;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), std::abs(s.obj[1] - s.goal[1]),
+                                   v1_.success, v1_.grasp_success);
 }
 
 SawyerTaskConfig DrawerOpen::Config() {

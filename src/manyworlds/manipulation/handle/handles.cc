@@ -41,15 +41,8 @@ SawyerTaskConfig Base(const char* id, const char* description, bool side) {
 
 // v1's handle reward: the left finger's tip (not the tcp) reaches the handle.
 RewardTerms HandleRewardV1(const SawyerState& s, double success_radius, double grasp_success) {
-  const double press_dist = std::abs(s.obj[2] - s.goal[2]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.left_finger), s.v1_max_dist, press_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, press_dist, 0, 0)
-  terms.success = press_dist <= success_radius;
-  terms.near_object = 1.0;
-  terms.grasp_success = grasp_success;
-  terms.obj_to_target = press_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.left_finger),
+                                   std::abs(s.obj[2] - s.goal[2]), success_radius, grasp_success);
 }
 
 Vec3 GoalOffset(bool side, double z) { return side ? Vec3{0.216, 0.0, z} : Vec3{0.0, -0.216, z}; }

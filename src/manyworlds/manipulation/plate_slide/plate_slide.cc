@@ -58,13 +58,7 @@ void PlateSlideTask::InitTaskState(SawyerState& s) const {
 
 RewardTerms PlateSlideTask::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   const double pull_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), pull_dist, 0.07);
 }
 
 RewardTerms PlateSlideTask::ComputeReward(const SawyerState& s, std::span<const float>) const {

@@ -45,15 +45,8 @@ void DialTurn::InitTaskState(SawyerState& state) const {
 }
 
 RewardTerms DialTurn::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double pull_dist = std::abs(s.obj[1] - s.goal[1]);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.grasp_success = 1.0;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), std::abs(s.obj[1] - s.goal[1]),
+                                   kTargetRadius, /*grasp_success=*/1.0);
 }
 
 RewardTerms DialTurn::ComputeReward(const SawyerState& s, std::span<const float> action) const {

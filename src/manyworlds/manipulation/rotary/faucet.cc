@@ -55,15 +55,8 @@ RewardTerms FaucetReward(const SawyerState& s, const Vec3& p) {
 void FaucetInitV1(SawyerState& s) { s.v1_max_dist = Distance(s.goal, s.obj_init); }
 
 RewardTerms FaucetRewardV1(const SawyerState& s) {
-  const double pull_dist = Distance(s.obj, s.goal);
-  RewardTerms terms;
-  terms.reward = v1::ReachThenProgress(Distance(s.obj, s.tcp), s.v1_max_dist, pull_dist);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.grasp_success = 1.0;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), Distance(s.obj, s.goal),
+                                   kTargetRadius, /*grasp_success=*/1.0);
 }
 
 }  // namespace

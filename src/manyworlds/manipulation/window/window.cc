@@ -105,17 +105,9 @@ void Window::InitTaskState(SawyerState& s) const {
 }
 
 RewardTerms Window::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  const double pull_dist = std::abs(s.obj[0] - s.goal[0]);
-  const double reach_dist = Distance(s.obj, s.tcp);
-  RewardTerms terms;
   // v3 does not clamp this bonus at 0
-  terms.reward = v1::ReachThenProgress(reach_dist, s.v1_max_dist, pull_dist, /*clamp=*/false);
-  // v3's evaluate_state on v1's (reward, 0, 0, pull_dist, 0, 0)
-  terms.success = pull_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.grasp_success = 1.0;
-  terms.obj_to_target = pull_dist;
-  return terms;
+  return v1::ReachThenProgressStep(s, Distance(s.obj, s.tcp), std::abs(s.obj[0] - s.goal[0]),
+                                   kTargetRadius, /*grasp_success=*/1.0, /*clamp=*/false);
 }
 
 void WindowScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
