@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/manipulation/assets.h"
@@ -32,6 +33,19 @@ std::vector<double> ToVector(const Vec3& v) { return {v[0], v[1], v[2]}; }
 double XyDistance(const Vec3& a, const Vec3& b) { return std::hypot(a[0] - b[0], a[1] - b[1]); }
 
 }  // namespace
+
+SawyerTaskConfig TaskConfig(std::string id, std::string description, std::string xml_file,
+                            const Range3& obj, const Range3& goal) {
+  SawyerTaskConfig config;
+  config.id = std::move(id);
+  config.description = std::move(description);
+  config.xml_file = std::move(xml_file);
+  config.obj_low = obj.low;
+  config.obj_high = obj.high;
+  config.goal_low = goal.low;
+  config.goal_high = goal.high;
+  return config;
+}
 
 EnvSpec SawyerTask::MakeSpec(const SawyerTaskConfig& config, const SawyerOptions& options) {
   const float inf = std::numeric_limits<float>::infinity();

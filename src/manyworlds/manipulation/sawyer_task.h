@@ -93,6 +93,17 @@ struct SawyerTaskConfig {
   std::string obj_quat_body;
 };
 
+// A box of positions, [low, high] per axis.
+struct Range3 {
+  Vec3 low{}, high{};
+};
+
+// Task `id`'s config with the shared defaults, the object drawn from `obj`
+// and the goal from `goal` (a fixture task sets the goal range from the
+// object's instead: UseGoalOffset).
+SawyerTaskConfig TaskConfig(std::string id, std::string description, std::string xml_file,
+                            const Range3& obj, const Range3& goal = {});
+
 // Meta-World's reward_function_version: "v2" (v3's default, rewards in
 // [0, 10]) or "v1" (the original shaped rewards that Meta-World+ restored;
 // unbounded, in the hundreds to thousands).

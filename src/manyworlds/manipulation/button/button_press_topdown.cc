@@ -24,13 +24,10 @@ FixtureSpec Fixture() { return {"button_box", kBoxOffset, "button_slide", 0.0, k
 }  // namespace
 
 SawyerTaskConfig ButtonPressTopdown::Config() {
-  SawyerTaskConfig config;
-  config.id = "button-press-topdown";
-  config.description = "Sawyer arm: press a button on top of a box";
-  config.xml_file = "button_press_topdown.xml";
+  SawyerTaskConfig config =
+      TaskConfig("button-press-topdown", "Sawyer arm: press a button on top of a box",
+                 "button_press_topdown.xml", {{-0.1, 0.8, 0.115}, {0.1, 0.9, 0.115}});
   config.hand_init = {0.0, 0.4, 0.2};
-  config.obj_low = {-0.1, 0.8, 0.115};
-  config.obj_high = {0.1, 0.9, 0.115};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
   return config;

@@ -19,13 +19,10 @@ FixtureSpec Fixture() { return {"coffee_machine", {}, "button_slide", 0.0, kGoal
 }  // namespace
 
 SawyerTaskConfig CoffeeButton::Config() {
-  SawyerTaskConfig config;
-  config.id = "coffee-button";
-  config.description = "Sawyer arm: push the coffee machine's button";
-  config.xml_file = "coffee_button.xml";
+  SawyerTaskConfig config =
+      TaskConfig("coffee-button", "Sawyer arm: push the coffee machine's button",
+                 "coffee_button.xml", {{-0.1, 0.8, -0.001}, {0.1, 0.9, 0.001}});
   config.hand_init = {0.0, 0.4, 0.2};
-  config.obj_low = {-0.1, 0.8, -0.001};
-  config.obj_high = {0.1, 0.9, 0.001};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "coffee_machine";
   UseGoalOffset(kGoalOffset, config);

@@ -16,15 +16,11 @@ constexpr double kV1Lift = 0.1;  // v3's liftThresh
 }  // namespace
 
 SawyerTaskConfig BinPicking::Config() {
-  SawyerTaskConfig config;
-  config.id = "bin-picking";
-  config.description = "Sawyer arm: pick a cube out of one bin and put it in the other";
-  config.xml_file = "bin_picking.xml";
+  SawyerTaskConfig config =
+      TaskConfig("bin-picking", "Sawyer arm: pick a cube out of one bin and put it in the other",
+                 "bin_picking.xml", {{-0.21, 0.65, 0.03}, {-0.03, 0.75, 0.03}},
+                 {{0.12, 0.7, 0.0}, {0.12, 0.7, 0.0}});
   config.hand_low = {-0.5, 0.40, 0.07};
-  config.obj_low = {-0.21, 0.65, 0.03};
-  config.obj_high = {-0.03, 0.75, 0.03};
-  config.goal_low = {0.12, 0.7, 0.0};
-  config.goal_high = {0.12, 0.7, 0.0};
   config.min_obj_goal_xy = 0.0;  // v3 draws no separation (the bins are apart)
   config.obj_quat = QuatLayout::kWxyz;
   return config;

@@ -30,14 +30,9 @@ double QuatReward(const std::array<double, 4>& q) {
 }  // namespace
 
 SawyerTaskConfig BoxClose::Config() {
-  SawyerTaskConfig config;
-  config.id = "box-close";
-  config.description = "Sawyer arm: put the lid on the box";
-  config.xml_file = "box_close.xml";
-  config.obj_low = {-0.05, 0.5, 0.02};
-  config.obj_high = {0.05, 0.55, 0.02};
-  config.goal_low = {-0.1, 0.7, 0.133};
-  config.goal_high = {0.1, 0.8, 0.133};
+  SawyerTaskConfig config =
+      TaskConfig("box-close", "Sawyer arm: put the lid on the box", "box_close.xml",
+                 {{-0.05, 0.5, 0.02}, {0.05, 0.55, 0.02}}, {{-0.1, 0.7, 0.133}, {0.1, 0.8, 0.133}});
   config.min_obj_goal_xy = 0.25;
   config.obj_quat = QuatLayout::kWxyz;
   return config;

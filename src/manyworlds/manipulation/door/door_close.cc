@@ -25,13 +25,9 @@ FixtureSpec Fixture() {
 }  // namespace
 
 SawyerTaskConfig DoorClose::Config() {
-  SawyerTaskConfig config;
-  config.id = "door-close";
-  config.description = "Sawyer arm: swing an open door shut";
-  config.xml_file = "door_close.xml";
+  SawyerTaskConfig config = TaskConfig("door-close", "Sawyer arm: swing an open door shut",
+                                       "door_close.xml", {{0.0, 0.85, 0.15}, {0.1, 0.95, 0.15}});
   config.hand_init = {-0.5, 0.6, 0.2};
-  config.obj_low = {0.0, 0.85, 0.15};
-  config.obj_high = {0.1, 0.95, 0.15};
   UseGoalOffset(kGoalOffset, config);
   return config;
 }

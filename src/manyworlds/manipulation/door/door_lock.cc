@@ -23,15 +23,11 @@ constexpr double kSiteSide = 0.01;
 constexpr double kSiteAlong = 0.09;
 
 SawyerTaskConfig LockConfig(const char* id, const char* description, const Vec3& goal_offset) {
-  SawyerTaskConfig config;
-  config.id = id;
-  config.description = description;
-  config.xml_file = "door_lock.xml";
+  SawyerTaskConfig config =
+      TaskConfig(id, description, "door_lock.xml", {{-0.1, 0.8, 0.15}, {0.1, 0.85, 0.15}});
   config.hand_init = {0.0, 0.6, 0.2};
   config.hand_low = {-0.5, 0.4, -0.15};
   config.hand_high = {0.5, 1.0, 0.5};
-  config.obj_low = {-0.1, 0.8, 0.15};
-  config.obj_high = {0.1, 0.85, 0.15};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "door";
   UseGoalOffset(goal_offset, config);

@@ -25,13 +25,9 @@ FixtureSpec Fixture() {
 }  // namespace
 
 SawyerTaskConfig DoorOpen::Config() {
-  SawyerTaskConfig config;
-  config.id = "door-open";
-  config.description = "Sawyer arm: swing a door open by its handle";
-  config.xml_file = "door_open.xml";
+  SawyerTaskConfig config = TaskConfig("door-open", "Sawyer arm: swing a door open by its handle",
+                                       "door_open.xml", {{0.0, 0.85, 0.15}, {0.1, 0.95, 0.15}});
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {0.0, 0.85, 0.15};
-  config.obj_high = {0.1, 0.95, 0.15};
   UseGoalOffset(kGoalOffset, config);
   return config;
 }

@@ -17,15 +17,10 @@ constexpr double kRestAboveObjPos = 0.02;
 }  // namespace
 
 SawyerTaskConfig HandInsert::Config() {
-  SawyerTaskConfig config;
-  config.id = "hand-insert";
-  config.description = "Sawyer arm: push a block over the table into a hole";
-  config.xml_file = "hand_insert.xml";
+  SawyerTaskConfig config = TaskConfig(
+      "hand-insert", "Sawyer arm: push a block over the table into a hole", "hand_insert.xml",
+      {{-0.1, 0.6, 0.05}, {0.1, 0.7, 0.05}}, {{-0.04, 0.8, -0.0201}, {0.04, 0.88, -0.0199}});
   config.hand_low = {-0.5, 0.40, -0.15};
-  config.obj_low = {-0.1, 0.6, 0.05};
-  config.obj_high = {0.1, 0.7, 0.05};
-  config.goal_low = {-0.04, 0.8, -0.0201};
-  config.goal_high = {0.04, 0.88, -0.0199};
   config.obj_quat = QuatLayout::kWxyz;
   return config;
 }

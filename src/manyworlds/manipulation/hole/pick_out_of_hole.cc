@@ -10,15 +10,11 @@
 namespace manyworlds::manipulation {
 
 SawyerTaskConfig PickOutOfHole::Config() {
-  SawyerTaskConfig config;
-  config.id = "pick-out-of-hole";
-  config.description = "Sawyer arm: pick a puck out of a hole in the table";
-  config.xml_file = "pick_out_of_hole.xml";
+  SawyerTaskConfig config =
+      TaskConfig("pick-out-of-hole", "Sawyer arm: pick a puck out of a hole in the table",
+                 "pick_out_of_hole.xml", {{0.0, 0.75, 0.02}, {0.0, 0.75, 0.02}},
+                 {{-0.1, 0.5, 0.15}, {0.1, 0.6, 0.3}});
   config.hand_low = {-0.5, 0.40, -0.05};
-  config.obj_low = {0.0, 0.75, 0.02};
-  config.obj_high = {0.0, 0.75, 0.02};
-  config.goal_low = {-0.1, 0.5, 0.15};
-  config.goal_high = {0.1, 0.6, 0.3};
   config.obj_quat = QuatLayout::kWxyz;
   return config;
 }

@@ -54,16 +54,12 @@ Vec3 PegPoint(const Vec3& origin, const float* q, const Vec3& local) {
 }  // namespace
 
 SawyerTaskConfig PegInsertSide::Config() {
-  SawyerTaskConfig config;
-  config.id = "peg-insert-side";
-  config.description = "Sawyer arm: insert a peg into the hole in the side of a box";
-  config.xml_file = "peg_insert_side.xml";
-  config.obj_low = {0.0, 0.5, 0.02};
-  config.obj_high = {0.2, 0.7, 0.02};
   // v3 draws the box in (-0.35, 0.4, 0)-(-0.25, 0.7, 0); the goal is
   // kGoalOnBox from it. Its 0.1 m peg-box rule never binds (x gap >= 0.25).
-  config.goal_low = {-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]};
-  config.goal_high = {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]};
+  SawyerTaskConfig config = TaskConfig(
+      "peg-insert-side", "Sawyer arm: insert a peg into the hole in the side of a box",
+      "peg_insert_side.xml", {{0.0, 0.5, 0.02}, {0.2, 0.7, 0.02}},
+      {{-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]}, {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]}});
   config.min_obj_goal_xy = 0.0;
   return config;
 }

@@ -21,13 +21,10 @@ constexpr Vec3 kGraspFromEnd{-0.02, 0.0, 0.011};
 }  // namespace
 
 SawyerTaskConfig PegUnplugSide::Config() {
-  SawyerTaskConfig config;
-  config.id = "peg-unplug-side";
-  config.description = "Sawyer arm: pull a plug sideways out of its socket";
-  config.xml_file = "peg_unplug_side.xml";
+  SawyerTaskConfig config =
+      TaskConfig("peg-unplug-side", "Sawyer arm: pull a plug sideways out of its socket",
+                 "peg_unplug_side.xml", {{-0.25, 0.6, -0.001}, {-0.15, 0.8, 0.001}});
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {-0.25, 0.6, -0.001};
-  config.obj_high = {-0.15, 0.8, 0.001};
   for (int i = 0; i < 3; ++i) {
     config.goal_low[i] = config.obj_low[i] + kGoalOnWall[i];
     config.goal_high[i] = config.obj_high[i] + kGoalOnWall[i];

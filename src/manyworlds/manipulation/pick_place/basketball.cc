@@ -24,17 +24,13 @@ constexpr Vec3 kZTwice{1.0, 1.0, 2.0};
 }  // namespace
 
 SawyerTaskConfig Basketball::Config() {
-  SawyerTaskConfig config;
-  config.id = "basketball";
-  config.description = "Sawyer arm: put a ball through a hoop";
-  config.xml_file = "basketball.xml";
-  config.obj_low = {-0.1, 0.6, 0.03};
-  config.obj_high = {0.1, 0.7, 0.03};
   // v3 draws the stand in (-0.1, 0.85, 0)-(0.1, 0.9, 0); its 0.15 m
   // ball-stand rule can never bind (the ranges are 0.15 apart in y), so
   // there is none here.
-  config.goal_low = {-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]};
-  config.goal_high = {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]};
+  SawyerTaskConfig config = TaskConfig("basketball", "Sawyer arm: put a ball through a hoop",
+                                       "basketball.xml", {{-0.1, 0.6, 0.03}, {0.1, 0.7, 0.03}},
+                                       {{-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]},
+                                        {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]}});
   config.min_obj_goal_xy = 0.0;
   return config;
 }

@@ -10,15 +10,9 @@
 namespace manyworlds::manipulation {
 
 SawyerTaskConfig PickPlace::Config() {
-  SawyerTaskConfig config;
-  config.id = "pick-place";
-  config.description = "Sawyer arm: pick up a puck and place it at a goal in space";
-  config.xml_file = "pick_place.xml";
-  config.obj_low = {-0.1, 0.6, 0.02};
-  config.obj_high = {0.1, 0.7, 0.02};
-  config.goal_low = {-0.1, 0.8, 0.05};
-  config.goal_high = {0.1, 0.9, 0.3};
-  return config;
+  return TaskConfig("pick-place", "Sawyer arm: pick up a puck and place it at a goal in space",
+                    "pick_place.xml", {{-0.1, 0.6, 0.02}, {0.1, 0.7, 0.02}},
+                    {{-0.1, 0.8, 0.05}, {0.1, 0.9, 0.3}});
 }
 
 PickPlace::PickPlace(SawyerOptions options) : SawyerTask(Config(), options) {}

@@ -21,15 +21,9 @@ constexpr double kRewardRadius = 0.05;
 }  // namespace
 
 SawyerTaskConfig ShelfPlace::Config() {
-  SawyerTaskConfig config;
-  config.id = "shelf-place";
-  config.description = "Sawyer arm: pick up a block and put it on a shelf";
-  config.xml_file = "shelf_place.xml";
-  config.obj_low = {-0.1, 0.5, kHalfBlock};
-  config.obj_high = {0.1, 0.6, kHalfBlock};
-  config.goal_low = {-0.1, 0.8, kGoalHeight};
-  config.goal_high = {0.1, 0.9, kGoalHeight};
-  return config;
+  return TaskConfig("shelf-place", "Sawyer arm: pick up a block and put it on a shelf",
+                    "shelf_place.xml", {{-0.1, 0.5, kHalfBlock}, {0.1, 0.6, kHalfBlock}},
+                    {{-0.1, 0.8, kGoalHeight}, {0.1, 0.9, kGoalHeight}});
 }
 
 ShelfPlace::ShelfPlace(SawyerOptions options)

@@ -15,14 +15,9 @@ constexpr double kTargetRadius = 0.05;
 }  // namespace
 
 SawyerTaskConfig Push::Config() {
-  SawyerTaskConfig config;
-  config.id = "push";
-  config.description = "Sawyer arm: push a puck to a goal on the table";
-  config.xml_file = "push.xml";
-  config.obj_low = {-0.1, 0.6, 0.02};
-  config.obj_high = {0.1, 0.7, 0.02};
-  config.goal_low = {-0.1, 0.8, 0.01};
-  config.goal_high = {0.1, 0.9, 0.02};
+  SawyerTaskConfig config =
+      TaskConfig("push", "Sawyer arm: push a puck to a goal on the table", "push.xml",
+                 {{-0.1, 0.6, 0.02}, {0.1, 0.7, 0.02}}, {{-0.1, 0.8, 0.01}, {0.1, 0.9, 0.02}});
   config.goal_z_at_object = true;
   return config;
 }

@@ -10,14 +10,9 @@
 namespace manyworlds::manipulation {
 
 SawyerTaskConfig PushBack::Config() {
-  SawyerTaskConfig config;
-  config.id = "push-back";
-  config.description = "Sawyer arm: bring a block back toward the robot";
-  config.xml_file = "push_back.xml";
-  config.obj_low = {-0.1, 0.8, 0.02};
-  config.obj_high = {0.1, 0.85, 0.02};
-  config.goal_low = {-0.1, 0.6, 0.02};
-  config.goal_high = {0.1, 0.7, 0.02};
+  SawyerTaskConfig config =
+      TaskConfig("push-back", "Sawyer arm: bring a block back toward the robot", "push_back.xml",
+                 {{-0.1, 0.8, 0.02}, {0.1, 0.85, 0.02}}, {{-0.1, 0.6, 0.02}, {0.1, 0.7, 0.02}});
   config.goal_z_at_object = true;
   return config;
 }

@@ -17,16 +17,10 @@ constexpr Vec3 kXThrice{3.0, 1.0, 1.0};
 }  // namespace
 
 SawyerTaskConfig Soccer::Config() {
-  SawyerTaskConfig config;
-  config.id = "soccer";
-  config.description = "Sawyer arm: push a ball into a goal net";
-  config.xml_file = "soccer.xml";
   // v3 draws the ball at z 0.03; ours rests at its radius.
-  config.obj_low = {-0.1, 0.6, kBallRadius};
-  config.obj_high = {0.1, 0.7, kBallRadius};
-  config.goal_low = {-0.1, 0.8, 0.0};
-  config.goal_high = {0.1, 0.9, 0.0};
-  return config;
+  return TaskConfig("soccer", "Sawyer arm: push a ball into a goal net", "soccer.xml",
+                    {{-0.1, 0.6, kBallRadius}, {0.1, 0.7, kBallRadius}},
+                    {{-0.1, 0.8, 0.0}, {0.1, 0.9, 0.0}});
 }
 
 Soccer::Soccer(SawyerOptions options) : GoalFixtureTask(Config(), "net", {}, options) {}

@@ -21,13 +21,9 @@ Vec3 PushPoint(const Vec3& obj) {
 }  // namespace
 
 SawyerTaskConfig DialTurn::Config() {
-  SawyerTaskConfig config;
-  config.id = "dial-turn";
-  config.description = "Sawyer arm: turn a dial";
-  config.xml_file = "dial_turn.xml";
+  SawyerTaskConfig config = TaskConfig("dial-turn", "Sawyer arm: turn a dial", "dial_turn.xml",
+                                       {{-0.1, 0.7, 0.0}, {0.1, 0.8, 0.0}});
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {-0.1, 0.7, 0.0};
-  config.obj_high = {0.1, 0.8, 0.0};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "dial_base";
   UseGoalOffset(kGoalOffset, config);

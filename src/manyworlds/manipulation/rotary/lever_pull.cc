@@ -30,13 +30,9 @@ Vec3 GraspPoint(const Vec3& grip) {
 }  // namespace
 
 SawyerTaskConfig LeverPull::Config() {
-  SawyerTaskConfig config;
-  config.id = "lever-pull";
-  config.description = "Sawyer arm: pull a lever up to vertical";
-  config.xml_file = "lever_pull.xml";
+  SawyerTaskConfig config = TaskConfig("lever-pull", "Sawyer arm: pull a lever up to vertical",
+                                       "lever_pull.xml", {{-0.1, 0.7, 0.0}, {0.1, 0.8, 0.0}});
   config.hand_init = {0.0, 0.4, 0.2};
-  config.obj_low = {-0.1, 0.7, 0.0};
-  config.obj_high = {0.1, 0.8, 0.0};
   UseGoalOffset(kGoalOffset, config);
   return config;
 }

@@ -26,15 +26,10 @@ constexpr double kGrip = 0.04;
 }  // namespace
 
 SawyerTaskConfig Hammer::Config() {
-  SawyerTaskConfig config;
-  config.id = "hammer";
-  config.description = "Sawyer arm: hammer a nail into a block";
-  config.xml_file = "hammer.xml";
+  SawyerTaskConfig config = TaskConfig("hammer", "Sawyer arm: hammer a nail into a block",
+                                       "hammer.xml", {{-0.1, 0.4, 0.0}, {0.1, 0.5, 0.0}},
+                                       {{0.2399, 0.7399, 0.109}, {0.2401, 0.7401, 0.111}});
   config.hand_init = {0.0, 0.4, 0.2};
-  config.obj_low = {-0.1, 0.4, 0.0};
-  config.obj_high = {0.1, 0.5, 0.0};
-  config.goal_low = {0.2399, 0.7399, 0.109};
-  config.goal_high = {0.2401, 0.7401, 0.111};
   config.min_obj_goal_xy = 0.0;
   config.obj_quat = QuatLayout::kWxyz;
   return config;

@@ -170,15 +170,10 @@ void StickTask::WriteObject2(const mjData*, float* pos_quat) const {
 }
 
 SawyerTaskConfig StickPush::Config() {
-  SawyerTaskConfig config;
-  config.id = "stick-push";
-  config.description = "Sawyer arm: push a thermos to the goal with a stick";
-  config.xml_file = "stick_push.xml";
+  SawyerTaskConfig config = TaskConfig(
+      "stick-push", "Sawyer arm: push a thermos to the goal with a stick", "stick_push.xml",
+      {{-0.08, 0.58, 0.02}, {-0.03, 0.62, 0.02}}, {{0.399, 0.55, 0.1319}, {0.401, 0.6, 0.1321}});
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {-0.08, 0.58, 0.02};
-  config.obj_high = {-0.03, 0.62, 0.02};
-  config.goal_low = {0.399, 0.55, 0.1319};
-  config.goal_high = {0.401, 0.6, 0.1321};
   config.min_obj_goal_xy = 0.1;
   return config;
 }
@@ -218,16 +213,12 @@ RewardTerms StickPush::ComputeReward(const SawyerState& s, std::span<const float
 }
 
 SawyerTaskConfig StickPull::Config() {
-  SawyerTaskConfig config;
-  config.id = "stick-pull";
-  config.description = "Sawyer arm: pull a thermos to the goal with a stick through its handle";
-  config.xml_file = "stick_pull.xml";
+  SawyerTaskConfig config = TaskConfig(
+      "stick-pull", "Sawyer arm: pull a thermos to the goal with a stick through its handle",
+      "stick_pull.xml", {{-0.1, 0.55, 0.02}, {0.0, 0.65, 0.02}},
+      {{0.35, 0.45, 0.0199}, {0.45, 0.55, 0.0201}});
   config.hand_low = {-0.5, 0.35, 0.05};
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {-0.1, 0.55, 0.02};
-  config.obj_high = {0.0, 0.65, 0.02};
-  config.goal_low = {0.35, 0.45, 0.0199};
-  config.goal_high = {0.45, 0.55, 0.0201};
   config.min_obj_goal_xy = 0.1;
   return config;
 }
