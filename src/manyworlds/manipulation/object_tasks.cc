@@ -72,7 +72,7 @@ RewardTerms ObjectRewardTerms(const SawyerState& s, const ObjectReward& parts) {
   terms.reward = parts.at_target ? 10.0 : parts.reward;
   terms.success = parts.obj_to_target <= parts.success_radius;
   terms.near_object = parts.tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = GraspSuccess(s);
+  terms.grasp_success = parts.grasp_success.value_or(GraspSuccess(s));
   terms.grasp_reward = parts.grasped;
   terms.in_place_reward = parts.in_place;
   terms.obj_to_target = parts.obj_to_target;

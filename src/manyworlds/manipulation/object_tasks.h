@@ -7,6 +7,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include <optional>
+
 #include "manyworlds/manipulation/reward_utils.h"
 #include "manyworlds/manipulation/sawyer_task.h"
 
@@ -70,8 +72,10 @@ struct ObjectReward {
   double tcp_to_obj = 0;      // near_object: within 3 cm
   double grasped = 0;         // info grasp_reward
   double in_place = 0;        // info in_place_reward
+  // info grasp_success; unset: GraspSuccess
+  std::optional<double> grasp_success;
 };
-// The reward and info of `parts`, grasp_success from GraspSuccess.
+// The reward and info of `parts`.
 RewardTerms ObjectRewardTerms(const SawyerState& state, const ObjectReward& parts);
 
 // A free-object task with a static fixture that stands at the goal (a hoop,

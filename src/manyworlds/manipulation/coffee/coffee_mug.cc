@@ -101,26 +101,20 @@ RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const f
   const double in_place =
       LongTailTolerance(target_to_obj, 0.0, 0.05, WeightedDistance(s.obj_init, s.goal, kXyTwice));
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-  CagingParams caging;
-  caging.obj_radius = 0.02;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.04;
-  caging.xz_thresh = 0.05;
-  caging.desired_gripper_effort = 0.7;
-  caging.medium_density = true;
+  const CagingParams caging{.obj_radius = 0.02,
+                            .object_reach_radius = 0.04,
+                            .xz_thresh = 0.05,
+                            .desired_gripper_effort = 0.7,
+                            .medium_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
-  if (tcp_to_obj < 0.04 && s.gripper_opening > 0) terms.reward += 1.0 + 5.0 * in_place;
-  if (target_to_obj < 0.05) terms.reward = 10.0;
-  terms.obj_to_target = Distance(s.obj, s.goal);
-  terms.success = terms.obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = s.touching_obj && s.gripper_opening > 0 ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  return terms;
+  double reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.04 && s.gripper_opening > 0) reward += 1.0 + 5.0 * in_place;
+  const bool touching = s.touching_obj && s.gripper_opening > 0;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = target_to_obj < 0.05,
+                               .obj_to_target = Distance(s.obj, s.goal), .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place,
+                               .grasp_success = touching ? 1.0 : 0.0});
 }
 
 SawyerTaskConfig CoffeePush::Config() {

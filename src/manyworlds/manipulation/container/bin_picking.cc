@@ -46,13 +46,7 @@ RewardTerms BinPicking::ComputeReward(const SawyerState& s, std::span<const floa
   };
   const double floor = std::min(funnel(s.obj_init), funnel(s.goal));
   const double above_floor = AboveFloor(s.hand[2], floor, 0.05);
-  CagingParams caging;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.01;
-  caging.desired_gripper_effort = 0.7;
-  caging.high_density = true;
+  const CagingParams caging{.xz_thresh = 0.01, .desired_gripper_effort = 0.7, .high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
   const bool near = Distance(s.obj, s.hand) < 0.04;

@@ -40,12 +40,7 @@ RewardTerms HandInsert::ComputeReward(const SawyerState& s, std::span<const floa
   const double tcp_to_obj = Distance(s.obj, s.tcp);
   const double in_place =
       LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
-  CagingParams caging;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.005;
-  caging.high_density = true;
+  const CagingParams caging{.high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
   double reward = HamacherProduct(grasped, in_place);

@@ -27,30 +27,22 @@ RewardTerms PickOutOfHole::ComputeReward(const SawyerState& s,
   const double tcp_to_obj = Distance(s.obj, s.tcp);
   const double radius = std::hypot(s.tcp[0] - s.obj_init[0], s.tcp[1] - s.obj_init[1]);
   const double above_floor = AboveFloor(s.tcp[2], FunnelFloor(radius, 0.03, 0.015, 0.15), 0.02);
-  CagingParams caging;
-  caging.object_reach_radius = 0.01;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.02;
-  caging.xz_thresh = 0.03;
-  caging.desired_gripper_effort = 0.1;
-  caging.high_density = true;
+  const CagingParams caging{.pad_success_thresh = 0.02,
+                            .xz_thresh = 0.03,
+                            .desired_gripper_effort = 0.1,
+                            .high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double in_place =
       LongTailTolerance(obj_to_target, 0.0, 0.02, Distance(s.obj_init, s.goal));
 
   const bool held = tcp_to_obj < 0.04 && s.gripper_opening >= 0.33 &&
                     s.obj[2] - 0.02 > s.obj_init[2];
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
-  if (held) terms.reward += 1.0 + 5.0 * HamacherProduct(in_place, above_floor);
-  if (obj_to_target < 0.05) terms.reward = 10.0;
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = held ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = HamacherProduct(grasped, in_place);
+  if (held) reward += 1.0 + 5.0 * HamacherProduct(in_place, above_floor);
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < 0.05,
+                               .obj_to_target = obj_to_target, .success_radius = 0.07,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place,
+                               .grasp_success = held ? 1.0 : 0.0});
 }
 
 void PickOutOfHole::InitTaskState(SawyerState& s) const {

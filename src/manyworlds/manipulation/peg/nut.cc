@@ -39,13 +39,10 @@ double QuatReward(const SawyerState& s) {
 double GrabReward(const SawyerState& s, float gripper_action, bool medium_density) {
   Vec3 handle = s.obj;
   if (std::abs(handle[0] - s.hand[0]) < kHandleLength / 2.0) handle[0] = s.hand[0];
-  CagingParams caging;
-  caging.object_reach_radius = 0.01;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.02;
-  caging.xz_thresh = 0.01;
-  caging.medium_density = medium_density;
-  caging.high_density = !medium_density;
+  const CagingParams caging{.pad_success_thresh = 0.02,
+                            .xz_thresh = 0.01,
+                            .high_density = !medium_density,
+                            .medium_density = medium_density};
   return CageObject(s, handle, gripper_action, caging);
 }
 

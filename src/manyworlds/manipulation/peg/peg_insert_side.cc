@@ -88,12 +88,7 @@ RewardTerms PegInsertSide::ComputeReward(const SawyerState& s,
                       RectPrismTolerance(s.obj_head, Plus(s.goal, kBelowZero), Plus(s.goal, kBelowOne)));
   const double in_place = HamacherProduct(to_goal, walls);
 
-  CagingParams caging;
-  caging.obj_radius = 0.0075;
-  caging.pad_success_thresh = 0.03;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.005;
-  caging.high_density = true;
+  const CagingParams caging{.obj_radius = 0.0075, .pad_success_thresh = 0.03, .high_density = true};
   const bool held = HeldAndLifted(s, 0.08, 0.01);
   const double grasped = held ? 1.0 : CageObject(s, s.obj, action[3], caging);
 

@@ -58,29 +58,19 @@ void PegUnplugSide::InitTaskState(SawyerState& state) const {
 RewardTerms PegUnplugSide::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const double tcp_to_obj = Distance(s.obj, s.tcp);
   const double obj_to_target = Distance(s.obj, s.goal);
-  CagingParams caging;
-  caging.object_reach_radius = 0.01;
-  caging.obj_radius = 0.025;
-  caging.pad_success_thresh = 0.05;
-  caging.xz_thresh = 0.005;
-  caging.desired_gripper_effort = 0.8;
-  caging.high_density = true;
+  const CagingParams caging{
+      .obj_radius = 0.025, .desired_gripper_effort = 0.8, .high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double in_place =
       LongTailTolerance(obj_to_target, 0.0, kRewardRadius, Distance(s.obj_init, s.goal));
   const bool pulling = s.gripper_opening > 0.5 && s.obj[0] - s.obj_init[0] > 0.015;
 
-  RewardTerms terms;
-  terms.reward = 2.0 * grasped;
-  if (pulling && tcp_to_obj < 0.035) terms.reward = 1.0 + 2.0 * grasped + 5.0 * in_place;
-  if (obj_to_target <= kRewardRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = tcp_to_obj <= 0.03 ? 1.0 : 0.0;
-  terms.grasp_success = pulling ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = 2.0 * grasped;
+  if (pulling && tcp_to_obj < 0.035) reward = 1.0 + 2.0 * grasped + 5.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target <= kRewardRadius,
+                               .obj_to_target = obj_to_target, .success_radius = kTargetRadius,
+                               .tcp_to_obj = tcp_to_obj, .grasped = grasped, .in_place = in_place,
+                               .grasp_success = pulling ? 1.0 : 0.0});
 }
 
 RewardTerms PegUnplugSide::ComputeRewardV1(const SawyerState& s,

@@ -44,12 +44,7 @@ RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const floa
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   const double in_place = LongTailTolerance(obj_to_target, 0.0, kTargetRadius,
                                             WeightedDistance(s.obj_init, target, kZTwice));
-  CagingParams caging;
-  caging.obj_radius = 0.025;
-  caging.pad_success_thresh = 0.06;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.005;
-  caging.high_density = true;
+  const CagingParams caging{.obj_radius = 0.025, .pad_success_thresh = 0.06, .high_density = true};
   const bool held = HeldAndLifted(s, 0.035, 0.01);
   // A lifted ball counts as grasped whatever the pads look like.
   const double grasped = held ? 1.0 : CageObject(s, s.obj, action[3], caging);

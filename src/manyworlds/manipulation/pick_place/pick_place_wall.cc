@@ -30,11 +30,7 @@ RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const f
                         WeightedDistance(s.obj_init, midpoint, z_thrice));
   const double to_goal =
       LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
-  CagingParams caging;  // the shared caging term, not high-density
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.005;
+  const CagingParams caging{};  // v3's defaults, not high-density
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double grasped_to_midpoint = HamacherProduct(grasped, to_midpoint);
 

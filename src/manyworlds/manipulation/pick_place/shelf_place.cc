@@ -35,11 +35,8 @@ RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const floa
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   double in_place =
       LongTailTolerance(obj_to_target, 0.0, kRewardRadius, Distance(s.obj_init, s.goal));
-  CagingParams caging;  // the shared caging term, not high-density
-  caging.obj_radius = 0.02;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.01;
+  // the shared caging term, not high-density
+  const CagingParams caging{.obj_radius = 0.02, .xz_thresh = 0.01};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
   double reward = HamacherProduct(grasped, in_place);

@@ -31,12 +31,7 @@ RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float>
                         WeightedDistance(s.obj_init, midpoint, x_thrice));
   const double to_goal =
       LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
-  CagingParams caging;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.005;
-  caging.high_density = true;
+  const CagingParams caging{.high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
   double reward = 2.0 * grasped;

@@ -79,12 +79,7 @@ RewardTerms Hammer::ComputeReward(const SawyerState& s, std::span<const float> a
   const double level[4] = {1, 0, 0, 0};
   for (int i = 0; i < 4; ++i) quat_error += (s.obj_quat[i] - level[i]) * (s.obj_quat[i] - level[i]);
   const double level_reward = std::max(1.0 - std::sqrt(quat_error) / 0.4, 0.0);
-  CagingParams caging;
-  caging.obj_radius = 0.015;
-  caging.pad_success_thresh = 0.02;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.01;
-  caging.high_density = true;
+  const CagingParams caging{.pad_success_thresh = 0.02, .xz_thresh = 0.01, .high_density = true};
   const double grab = CageObject(s, threshed, action[3], caging);
   const Vec3 head{s.obj[0] + kHeadOffset[0], s.obj[1] + kHeadOffset[1], s.obj[2] + kHeadOffset[2]};
   const double in_place = 0.1 * (head[2] > 0.02 ? 1.0 : 0.0) +

@@ -21,13 +21,7 @@ constexpr double kV1Lift = 0.04;                // v3's liftThresh
 Vec3 Plus(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 
 CagingParams StickCaging(double obj_radius) {
-  CagingParams caging;
-  caging.obj_radius = obj_radius;
-  caging.pad_success_thresh = 0.05;
-  caging.object_reach_radius = 0.01;
-  caging.xz_thresh = 0.01;
-  caging.high_density = true;
-  return caging;
+  return CagingParams{.obj_radius = obj_radius, .xz_thresh = 0.01, .high_density = true};
 }
 
 // v3's "held": tcp within 2 cm of the stick point, the gripper not shut and
