@@ -96,6 +96,31 @@ class Actor {
   virtual void Adapt(const torch::Tensor& /*envs*/, ActorState& /*state*/) {}
 };
 
+// Stops the rows of envs in `mask` (N, bool) counting in a recorded
+// history: every step (N, d) holds its rows' validity weight in its last
+// column, which becomes 0 for those rows (each step is replaced by a copy,
+// never written into in place).
+inline void ForgetHistoryRows(std::vector<torch::Tensor>& history, const torch::Tensor& mask) {
+  const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
+  for (torch::Tensor& row : history) {
+    row = row.clone();
+    row.select(1, row.size(1) - 1).mul_(keep);
+  }
+}
+
+// Starts `state` over with actor.Initial(num_envs), keeping the generator a
+// protocol gave it, unless its tensor `key` holds num_envs rows. Returns true
+// if it started over.
+inline bool RestartUnlessSized(Actor& actor, ActorState& state, const std::string& key,
+                               int64_t num_envs) {
+  const torch::Tensor& t = state.tensors[key];
+  if (t.defined() && t.size(0) == num_envs) return false;
+  std::optional<at::Generator> own = state.generator;
+  state = actor.Initial(num_envs);
+  state.generator = own;
+  return true;
+}
+
 }  // namespace manyworlds::agents
 
 #endif  // MANYWORLDS_AGENTS_ACTOR_H_

@@ -1,5 +1,7 @@
 #include "manyworlds/agents/archive_io.h"
 
+#include "manyworlds/rl/generator.h"
+
 namespace manyworlds::agents {
 
 void WriteModule(torch::serialize::OutputArchive& archive, const char* key,
@@ -28,6 +30,48 @@ void ReadOptimizer(torch::serialize::InputArchive& archive, const char* key,
   torch::serialize::InputArchive sub;
   archive.read(key, sub);
   optimizer.Load(sub);
+}
+
+void Transfer(torch::serialize::OutputArchive& archive, const char* key,
+              const rl::LinearFeatureBaseline& baseline) {
+  archive.write(key, baseline.coefficients());
+}
+
+void Transfer(torch::serialize::InputArchive& archive, const char* key,
+              rl::LinearFeatureBaseline& baseline) {
+  torch::Tensor coefficients;
+  archive.read(key, coefficients);
+  baseline.set_coefficients(coefficients);
+}
+
+void WriteProgress(torch::serialize::OutputArchive& archive, int64_t num_updates,
+                   const at::Generator& generator) {
+  archive.write("num_updates", torch::tensor(num_updates, torch::kInt64));
+  at::Generator shared = generator;  // the same generator; its state is read under its lock
+  archive.write("generator", rl::GeneratorState(shared));
+}
+
+void ReadProgress(torch::serialize::InputArchive& archive, int64_t& num_updates,
+                  at::Generator& generator) {
+  torch::Tensor updates, state;
+  archive.read("num_updates", updates);
+  num_updates = updates.item<int64_t>();
+  archive.read("generator", state);
+  rl::SetGeneratorState(generator, state);
+}
+
+void WriteSignature(torch::serialize::OutputArchive& archive, int64_t code,
+                    at::ArrayRef<int64_t> sizes) {
+  archive.write("algo", torch::tensor(code, torch::kInt64));
+  archive.write("sizes", torch::tensor(sizes, torch::kInt64));
+}
+
+bool HasSignature(torch::serialize::InputArchive& archive, int64_t code,
+                  at::ArrayRef<int64_t> sizes) {
+  torch::Tensor algo, saved;
+  return archive.try_read("algo", algo) && algo.numel() == 1 && algo.item<int64_t>() == code &&
+         archive.try_read("sizes", saved) &&
+         torch::equal(saved, torch::tensor(sizes, torch::kInt64));
 }
 
 }  // namespace manyworlds::agents

@@ -144,35 +144,26 @@ torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, i
   return out.view({e, b, heads, head_dim}).gather(2, index).squeeze(2);
 }
 
-MlpImpl::MlpImpl(const MlpOptions& options, c10::optional<at::Generator> generator)
-    : FlatModule("Mlp"), options_(options) {
-  CheckOptions(options_, "Mlp");
-  options_.ensemble_size = 1;
+template <bool kEnsemble>
+BasicMlpImpl<kEnsemble>::BasicMlpImpl(const MlpOptions& options,
+                                      c10::optional<at::Generator> generator)
+    : FlatModule(kEnsemble ? "EnsembleMlp" : "Mlp"), options_(options) {
+  CheckOptions(options_, kEnsemble ? "EnsembleMlp" : "Mlp");
+  if (!kEnsemble) options_.ensemble_size = 1;
   std::vector<ParamSpec> specs;
-  AppendMlpLayout(specs, "", options_, /*ensemble=*/false);
+  AppendMlpLayout(specs, "", options_, kEnsemble);
   InitFlat(std::move(specs));
   InitMlpParams(detached_params(), generator);
 }
 
-torch::Tensor MlpImpl::Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const {
+template <bool kEnsemble>
+torch::Tensor BasicMlpImpl<kEnsemble>::Forward(const torch::Tensor& x,
+                                               at::ArrayRef<torch::Tensor> params) const {
   CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
   return MlpForward(x, params, options_.activation);
 }
 
-EnsembleMlpImpl::EnsembleMlpImpl(const MlpOptions& options,
-                                 c10::optional<at::Generator> generator)
-    : FlatModule("EnsembleMlp"), options_(options) {
-  CheckOptions(options_, "EnsembleMlp");
-  std::vector<ParamSpec> specs;
-  AppendMlpLayout(specs, "", options_, /*ensemble=*/true);
-  InitFlat(std::move(specs));
-  InitMlpParams(detached_params(), generator);
-}
-
-torch::Tensor EnsembleMlpImpl::Forward(const torch::Tensor& x,
-                                       at::ArrayRef<torch::Tensor> params) const {
-  CheckParams(params, 2 * static_cast<size_t>(options_.num_layers + 1));
-  return MlpForward(x, params, options_.activation);
-}
+template class BasicMlpImpl<false>;
+template class BasicMlpImpl<true>;
 
 }  // namespace manyworlds::nn

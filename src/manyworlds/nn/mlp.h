@@ -73,13 +73,18 @@ torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> par
 // (E, B, head_dim). head: (B) int64 in [0, num_heads) (not range-checked).
 torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, int64_t head_dim);
 
-class MlpImpl : public FlatModule {
+// Mlp (kEnsemble false) and EnsembleMlp (true) share everything but the
+// layout: one flat MLP, or ensemble_size of them stacked.
+template <bool kEnsemble>
+class BasicMlpImpl : public FlatModule {
  public:
   // Throws ConfigError on non-positive dims or negative num_layers.
-  explicit MlpImpl(const MlpOptions& options,
-                   c10::optional<at::Generator> generator = c10::nullopt);
+  explicit BasicMlpImpl(const MlpOptions& options,
+                        c10::optional<at::Generator> generator = c10::nullopt);
 
-  // x: (B, input_dim) -> (B, output_dim).
+  // Mlp: x (B, input_dim) -> (B, output_dim). EnsembleMlp: x (B, input_dim),
+  // shared by all members, or (E, B, input_dim), one input per member ->
+  // (E, B, output_dim).
   torch::Tensor forward(const torch::Tensor& x) { return Forward(x, params()); }
   torch::Tensor Forward(const torch::Tensor& x) { return Forward(x, params()); }
   // Same network with explicit parameters (layout order of params());
@@ -91,24 +96,12 @@ class MlpImpl : public FlatModule {
  private:
   MlpOptions options_;
 };
+extern template class BasicMlpImpl<false>;
+extern template class BasicMlpImpl<true>;
+
+using MlpImpl = BasicMlpImpl<false>;
 TORCH_MODULE(Mlp);
-
-class EnsembleMlpImpl : public FlatModule {
- public:
-  explicit EnsembleMlpImpl(const MlpOptions& options,
-                           c10::optional<at::Generator> generator = c10::nullopt);
-
-  // x: (B, input_dim), shared by all members, or (E, B, input_dim), one
-  // input per member -> (E, B, output_dim).
-  torch::Tensor forward(const torch::Tensor& x) { return Forward(x, params()); }
-  torch::Tensor Forward(const torch::Tensor& x) { return Forward(x, params()); }
-  torch::Tensor Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const;
-
-  const MlpOptions& options() const { return options_; }
-
- private:
-  MlpOptions options_;
-};
+using EnsembleMlpImpl = BasicMlpImpl<true>;
 TORCH_MODULE(EnsembleMlp);
 
 }  // namespace manyworlds::nn

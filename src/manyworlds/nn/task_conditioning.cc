@@ -11,6 +11,23 @@ const std::vector<std::string>& TaskConditioningArchitectures() {
   return names;
 }
 
+TaskEncoderOptions ConditioningTaskEncoderOptions(int64_t num_tasks, int64_t embedding_dim) {
+  return {.num_tasks = num_tasks,
+          .embedding_dim = embedding_dim,
+          .hidden_dim = embedding_dim,
+          .output_dim = embedding_dim};
+}
+
+MixtureEncoderOptions ConditioningMixtureOptions(int64_t obs_dim, int64_t embedding_dim,
+                                                 int64_t encoder_dim, int64_t num_experts) {
+  return {.input_dim = obs_dim,
+          .context_dim = embedding_dim,
+          .output_dim = encoder_dim,
+          .hidden_dim = encoder_dim,
+          .num_experts = num_experts,
+          .selector_hidden_dim = embedding_dim};
+}
+
 TaskConditioning::TaskConditioning(const TaskConditioningOptions& options,
                                    at::Generator& generator)
     : options_(options) {
@@ -26,24 +43,16 @@ TaskConditioning::TaskConditioning(const TaskConditioningOptions& options,
   output_dim_ = options.obs_dim;
   if (arch == "mlp" && options.num_tasks > 1) output_dim_ += options.num_tasks;
   if (arch == "task_encoder" || arch == "moe") {
-    TaskEncoderOptions task;
-    task.num_tasks = options.num_tasks;
-    task.embedding_dim = options.task_embedding_dim;
-    task.hidden_dim = options.task_embedding_dim;
-    task.output_dim = options.task_embedding_dim;
-    task_encoder_ = TaskEncoder(task, generator);
+    task_encoder_ = TaskEncoder(
+        ConditioningTaskEncoderOptions(options.num_tasks, options.task_embedding_dim), generator);
     modules_.push_back(task_encoder_.get());
     output_dim_ = options.obs_dim + options.task_embedding_dim;
   }
   if (arch == "moe") {
-    MixtureEncoderOptions moe;
-    moe.input_dim = options.obs_dim;
-    moe.context_dim = options.task_embedding_dim;
-    moe.output_dim = options.encoder_dim;
-    moe.hidden_dim = options.encoder_dim;
-    moe.num_experts = options.num_experts;
-    moe.selector_hidden_dim = options.task_embedding_dim;
-    mixture_ = MixtureEncoder(moe, generator);
+    mixture_ = MixtureEncoder(
+        ConditioningMixtureOptions(options.obs_dim, options.task_embedding_dim,
+                                   options.encoder_dim, options.num_experts),
+        generator);
     modules_.push_back(mixture_.get());
     output_dim_ = options.encoder_dim + options.task_embedding_dim;
   }

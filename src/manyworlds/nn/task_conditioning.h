@@ -34,6 +34,14 @@ struct TaskConditioningOptions {
 // The allowed architectures, in documentation order.
 const std::vector<std::string>& TaskConditioningArchitectures();
 
+// The learned parts of task_encoder and moe (SAC builds the same ones):
+// a task encoder whose embedding, hidden layer and output are all
+// embedding_dim wide, and a mixture of num_experts encoders of obs to
+// encoder_dim (hidden width encoder_dim) weighted from that embedding.
+TaskEncoderOptions ConditioningTaskEncoderOptions(int64_t num_tasks, int64_t embedding_dim);
+MixtureEncoderOptions ConditioningMixtureOptions(int64_t obs_dim, int64_t embedding_dim,
+                                                 int64_t encoder_dim, int64_t num_experts);
+
 class TaskConditioning {
  public:
   // Draws the learned parts' initial values from `generator` (task encoder

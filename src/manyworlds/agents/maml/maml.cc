@@ -20,11 +20,6 @@ namespace {
 constexpr char kHistory[] = "history";
 constexpr char kAdapted[] = "adapted";
 
-const MamlConfig& Validated(const MamlConfig& c) {
-  c.Validate();
-  return c;
-}
-
 constexpr int64_t kCheckpointCode = 0x6d616d6c;  // "maml"
 constexpr uint64_t kValueSeedSalt = 0x76616c7565;  // "value"
 
@@ -60,8 +55,7 @@ void MamlConfig::Validate() const {
   RequireField(FinitePositive(inner_lr), "inner_lr", "finite and > 0", inner_lr);
   RequireField(episodes_per_task >= 1 && episodes_per_task <= 10000, "episodes_per_task",
                "in [1, 10000]", episodes_per_task);
-  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
+  RequireDiscountAndLambda(discount, gae_lambda);
   RequireField(outer == "trpo" || outer == "ppo", "outer", "one of trpo, ppo", outer);
   RequireField(baseline == "linear" || baseline == "value_network", "baseline",
                "one of linear, value_network", baseline);
@@ -95,16 +89,8 @@ MamlLearner::MamlLearner(const MamlConfig& config, const PolicySpaces& spaces)
     throw ConfigError("maml: obs_dim and action_dim must be > 0");
   }
   nn::ConfigureTorchThreads();
-  nn::StochasticPolicyOptions p;
-  p.input_dim = spaces.obs_dim;  // the task is never an input: it is adapted to
-  p.action_dim = spaces.action_dim;
-  p.num_actions = spaces.num_actions;
-  p.hidden_dim = config.hidden_dim;
-  p.num_layers = config.num_layers;
-  p.init_std = config.init_std;
-  p.min_std = config.min_std;
-  p.max_std = config.max_std;
-  policy_ = nn::StochasticPolicy(p, generator_);
+  // the task is never an input: it is adapted to
+  policy_ = nn::StochasticPolicy(PolicyNetworkOptions(config, spaces, spaces.obs_dim), generator_);
   outer_optimizer_ = nn::FlatAdam(policy_->num_params(), nn::AdamOptions{.lr = config.outer_lr});
   if (config.baseline == "value_network") {
     // its own generator, so the policy's draws are those of a linear-baseline run
@@ -246,11 +232,7 @@ void MamlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState&
     return;
   }
   // forget the masked rows only: their records stop counting, their policy is theta again
-  const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
-  for (torch::Tensor& row : state.lists[kHistory]) {
-    row = row.clone();
-    row.select(1, row.size(1) - 1).mul_(keep);
-  }
+  ForgetHistoryRows(state.lists[kHistory], mask);
   for (size_t j = 0; j < state.lists[kAdapted].size(); ++j) {
     std::vector<int64_t> shape(state.lists[kAdapted][j].dim(), 1);
     shape[0] = mask.size(0);
@@ -414,30 +396,21 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
 }
 
 void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
-  archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
-  archive.write("sizes", torch::tensor({spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions},
-                                       torch::kInt64));
+  WriteSignature(archive, kCheckpointCode,
+                 {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions});
   WriteModule(archive, "policy", *policy_);
   WriteOptimizer(archive, "outer_optimizer", outer_optimizer_);
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", generator_.get_state());
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void MamlLearner::Load(torch::serialize::InputArchive& archive) {
-  torch::Tensor algo, sizes, num_updates, state;
-  const torch::Tensor expected =
-      torch::tensor({spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions}, torch::kInt64);
-  if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
-      algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
-      !torch::equal(sizes, expected)) {
+  if (!HasSignature(archive, kCheckpointCode,
+                    {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions})) {
     throw Error("maml checkpoint: not a checkpoint of MAML with these sizes");
   }
   ReadModule(archive, "policy", *policy_);
   ReadOptimizer(archive, "outer_optimizer", outer_optimizer_);
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", state);
-  generator_.set_state(state);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

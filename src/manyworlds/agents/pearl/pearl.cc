@@ -18,11 +18,6 @@ constexpr char kLatent[] = "latent";
 constexpr char kContext[] = "context";
 constexpr char kHistory[] = "history";
 
-const PearlConfig& Validated(const PearlConfig& c) {
-  c.Validate();
-  return c;
-}
-
 constexpr int64_t kCheckpointCode = 0x706561726c;  // "pearl"
 // Seeds the generator every actor state draws from unless a protocol sets its own.
 constexpr uint64_t kActorStream = 0x6163746f72;  // "actor"
@@ -340,11 +335,7 @@ void PearlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState
     state.lists[kHistory].clear();
     return;
   }
-  const torch::Tensor keep = mask.logical_not().to(torch::kFloat32);
-  for (torch::Tensor& row : state.lists[kHistory]) {
-    row = row.clone();
-    row.select(1, row.size(1) - 1).mul_(keep);
-  }
+  ForgetHistoryRows(state.lists[kHistory], mask);
 }
 
 void PearlLearner::Observe(const StepOutcome& o, ActorState& state) {
@@ -375,47 +366,35 @@ void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
                                      state.tensors[kLatent]);
 }
 
+template <typename Archive, typename Self>
+void PearlLearner::TransferNetworks(Archive& archive, Self& self) {
+  Transfer(archive, "encoder", *self.encoder_);
+  Transfer(archive, "policy", *self.policy_);
+  Transfer(archive, "critic", *self.critic_);
+  Transfer(archive, "value", *self.value_);
+  Transfer(archive, "value_target", *self.value_target_);
+  Transfer(archive, "encoder_optimizer", self.encoder_optimizer_);
+  Transfer(archive, "policy_optimizer", self.policy_optimizer_);
+  Transfer(archive, "critic_optimizer", self.critic_optimizer_);
+  Transfer(archive, "value_optimizer", self.value_optimizer_);
+}
+
 void PearlLearner::Save(torch::serialize::OutputArchive& archive) const {
-  archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
-  archive.write("sizes", torch::tensor({obs_dim_, action_dim_, config_.latent_dim,
-                                        config_.hidden_dim, config_.encoder_hidden_dim},
-                                       torch::kInt64));
-  WriteModule(archive, "encoder", *encoder_);
-  WriteModule(archive, "policy", *policy_);
-  WriteModule(archive, "critic", *critic_);
-  WriteModule(archive, "value", *value_);
-  WriteModule(archive, "value_target", *value_target_);
-  WriteOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  WriteOptimizer(archive, "policy_optimizer", policy_optimizer_);
-  WriteOptimizer(archive, "critic_optimizer", critic_optimizer_);
-  WriteOptimizer(archive, "value_optimizer", value_optimizer_);
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", rl::GeneratorState(const_cast<at::Generator&>(generator_)));
+  WriteSignature(archive, kCheckpointCode,
+                 {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim,
+                  config_.encoder_hidden_dim});
+  TransferNetworks(archive, *this);
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void PearlLearner::Load(torch::serialize::InputArchive& archive) {
-  torch::Tensor algo, sizes, num_updates, state;
-  const torch::Tensor expected = torch::tensor(
-      {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim, config_.encoder_hidden_dim},
-      torch::kInt64);
-  if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
-      algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
-      !torch::equal(sizes, expected)) {
+  if (!HasSignature(archive, kCheckpointCode,
+                    {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim,
+                     config_.encoder_hidden_dim})) {
     throw Error("pearl checkpoint: not a checkpoint of PEARL with these sizes");
   }
-  ReadModule(archive, "encoder", *encoder_);
-  ReadModule(archive, "policy", *policy_);
-  ReadModule(archive, "critic", *critic_);
-  ReadModule(archive, "value", *value_);
-  ReadModule(archive, "value_target", *value_target_);
-  ReadOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  ReadOptimizer(archive, "policy_optimizer", policy_optimizer_);
-  ReadOptimizer(archive, "critic_optimizer", critic_optimizer_);
-  ReadOptimizer(archive, "value_optimizer", value_optimizer_);
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", state);
-  rl::SetGeneratorState(generator_, state);
+  TransferNetworks(archive, *this);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

@@ -118,6 +118,11 @@ class PearlLearner : public Learner, public Actor {
   at::Generator& generator() { return generator_; }
 
  private:
+  // The checkpoint's networks and optimizers in Save's order; Load reads the
+  // same list (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferNetworks(Archive& archive, Self& self);
+
   PearlConfig config_;
   int64_t obs_dim_;
   int64_t action_dim_;

@@ -4,21 +4,13 @@
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
 #include "manyworlds/nn/threads.h"
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::agents {
-namespace {
-
-const PolicyGradientConfig& Validated(const PolicyGradientConfig& config) {
-  config.Validate();
-  return config;
-}
-
-}  // namespace
-
 double ExplainedVariance(const torch::Tensor& prediction, const torch::Tensor& target) {
   const double var = target.var(/*unbiased=*/false).item<double>();
   if (!(var > 0)) return 0.0;
@@ -71,15 +63,7 @@ PolicyGradientLearner::PolicyGradientLearner(const PolicyGradientConfig& config,
   conditioning_ = std::make_unique<nn::TaskConditioning>(c, generator_);
   input_dim_ = conditioning_->output_dim();
   const int64_t heads = conditioning_->multihead() ? spaces.num_tasks : 1;
-  nn::StochasticPolicyOptions p;
-  p.input_dim = input_dim_;
-  p.action_dim = spaces.action_dim;
-  p.num_actions = spaces.num_actions;
-  p.hidden_dim = config.hidden_dim;
-  p.num_layers = config.num_layers;
-  p.init_std = config.init_std;
-  p.min_std = config.min_std;
-  p.max_std = config.max_std;
+  nn::StochasticPolicyOptions p = PolicyNetworkOptions(config, spaces, input_dim_);
   p.num_heads = heads;
   policy_ = nn::StochasticPolicy(p, generator_);
   policy_modules_.push_back(policy_.get());
@@ -219,49 +203,34 @@ double PolicyGradientLearner::FitValue(const PolicySamples& s, int64_t epochs,
   return count > 0 ? sum / count : 0.0;
 }
 
+template <typename Archive, typename Self>
+void PolicyGradientLearner::TransferNetworks(Archive& archive, Self& self) {
+  Transfer(archive, "policy", *self.policy_);
+  for (size_t i = 1; i < self.policy_modules_.size(); ++i) {
+    Transfer(archive, ("conditioning_" + std::to_string(i)).c_str(), *self.policy_modules_[i]);
+  }
+  TransferBaseline(archive, self.value_, self.value_optimizer_, self.linear_);
+}
+
 void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("algo", torch::tensor(static_cast<int64_t>(algo_name()[0]), torch::kInt64));
   archive.write("input_dim", torch::tensor(input_dim_, torch::kInt64));
-  WriteModule(archive, "policy", *policy_);
-  for (size_t i = 1; i < policy_modules_.size(); ++i) {
-    WriteModule(archive, ("conditioning_" + std::to_string(i)).c_str(), *policy_modules_[i]);
-  }
-  if (value_) {
-    WriteModule(archive, "value", *value_);
-    WriteOptimizer(archive, "value_optimizer", value_optimizer_);
-  } else {
-    archive.write("linear_baseline", linear_->coefficients());
-  }
+  TransferNetworks(archive, *this);
   SaveExtra(archive);
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", generator_.get_state());
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void PolicyGradientLearner::Load(torch::serialize::InputArchive& archive) {
-  torch::Tensor algo, input_dim, num_updates, state;
+  torch::Tensor algo, input_dim;
   if (!archive.try_read("algo", algo) || !archive.try_read("input_dim", input_dim) ||
       algo.item<int64_t>() != static_cast<int64_t>(algo_name()[0]) ||
       input_dim.item<int64_t>() != input_dim_) {
     throw Error(std::string(algo_name()) +
                 " checkpoint: not a checkpoint of this algorithm and network input");
   }
-  ReadModule(archive, "policy", *policy_);
-  for (size_t i = 1; i < policy_modules_.size(); ++i) {
-    ReadModule(archive, ("conditioning_" + std::to_string(i)).c_str(), *policy_modules_[i]);
-  }
-  if (value_) {
-    ReadModule(archive, "value", *value_);
-    ReadOptimizer(archive, "value_optimizer", value_optimizer_);
-  } else {
-    torch::Tensor coefficients;
-    archive.read("linear_baseline", coefficients);
-    linear_->set_coefficients(coefficients);
-  }
+  TransferNetworks(archive, *this);
   LoadExtra(archive);
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", state);
-  generator_.set_state(state);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

@@ -39,6 +39,22 @@ struct PolicySpaces {
   int64_t num_tasks = 1;
 };
 
+// The Gaussian or categorical policy of an on-policy learner over inputs of
+// input_dim: the action space of `spaces`, the network's size and std bounds
+// from the config (hidden_dim, num_layers, init_std, min_std, max_std).
+template <typename Config>
+nn::StochasticPolicyOptions PolicyNetworkOptions(const Config& config, const PolicySpaces& spaces,
+                                                 int64_t input_dim) {
+  return {.input_dim = input_dim,
+          .action_dim = spaces.action_dim,
+          .num_actions = spaces.num_actions,
+          .hidden_dim = config.hidden_dim,
+          .num_layers = config.num_layers,
+          .init_std = config.init_std,
+          .min_std = config.min_std,
+          .max_std = config.max_std};
+}
+
 // One iteration's samples, flattened to B = T * N rows.
 struct PolicySamples {
   torch::Tensor x;           // (B, input_dim) task-conditioned observations (no history)
@@ -97,6 +113,10 @@ class PolicyGradientLearner : public OnPolicyLearner, public Actor {
   double FitValue(const PolicySamples& samples, int64_t epochs, int64_t minibatch_size);
   bool uses_value_network() const { return static_cast<bool>(value_); }
   torch::Tensor Heads(const torch::Tensor& task_index) const;
+  // The checkpoint's networks in Save's order; Load reads the same list
+  // (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferNetworks(Archive& archive, Self& self);
 
   PolicyGradientConfig config_;
   PolicySpaces spaces_;

@@ -1,7 +1,6 @@
 #include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
@@ -27,13 +26,8 @@ void PolicyGradientConfig::Validate() const {
   RequireField(vf_num_layers >= 0 && vf_num_layers <= 64, "vf_num_layers", "in [0, 64]",
                vf_num_layers);
   RequireField(FinitePositive(vf_lr), "vf_lr", "finite and > 0", vf_lr);
-  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
-  RequireField(
-      entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
-      "entropy_method", "one of regularized, max, none", entropy_method);
-  RequireField(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
-               "finite and >= 0", entropy_coeff);
+  RequireDiscountAndLambda(discount, gae_lambda);
+  RequireEntropyTerm(entropy_method, entropy_coeff);
   RequireField(rollout_rounds >= 1 && rollout_rounds <= 100000, "rollout_rounds", "in [1, 100000]",
                rollout_rounds);
 }

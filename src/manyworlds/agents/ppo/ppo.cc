@@ -12,11 +12,6 @@
 namespace manyworlds::agents {
 namespace {
 
-const PpoConfig& Validated(const PpoConfig& c) {
-  c.Validate();
-  return c;
-}
-
 // The policy's optimizer keeps its key of the one-module layout.
 std::string PolicyOptimizerKey(size_t i) {
   return i == 0 ? "policy_optimizer" : "conditioning_optimizer_" + std::to_string(i);

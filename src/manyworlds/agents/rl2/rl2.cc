@@ -18,11 +18,6 @@ namespace {
 constexpr char kHidden[] = "hidden";
 constexpr char kContext[] = "context";
 
-const Rl2Config& Validated(const Rl2Config& c) {
-  c.Validate();
-  return c;
-}
-
 // Marks an RL2 checkpoint (PPO/TRPO write their own algorithm code).
 constexpr int64_t kCheckpointCode = 0x726c32;  // "rl2"
 
@@ -38,13 +33,8 @@ void Rl2Config::Validate() const {
   RequireField(clip_range > 0 && clip_range < 1, "clip_range", "in (0, 1)", clip_range);
   RequireField(std::isfinite(max_grad_norm) && max_grad_norm >= 0, "max_grad_norm",
                "finite and >= 0", max_grad_norm);
-  RequireField(discount >= 0 && discount <= 1, "discount", "in [0, 1]", discount);
-  RequireField(gae_lambda >= 0 && gae_lambda <= 1, "gae_lambda", "in [0, 1]", gae_lambda);
-  RequireField(
-      entropy_method == "regularized" || entropy_method == "max" || entropy_method == "none",
-      "entropy_method", "one of regularized, max, none", entropy_method);
-  RequireField(std::isfinite(entropy_coeff) && entropy_coeff >= 0, "entropy_coeff",
-               "finite and >= 0", entropy_coeff);
+  RequireDiscountAndLambda(discount, gae_lambda);
+  RequireEntropyTerm(entropy_method, entropy_coeff);
   RequireField(episodes_per_trial >= 1 && episodes_per_trial <= 100000, "episodes_per_trial",
                "in [1, 100000]", episodes_per_trial);
   RequireField(std::isfinite(context_reward_scale), "context_reward_scale", "finite",
@@ -104,11 +94,7 @@ ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorS
   if (obs.dim() != 2 || obs.size(1) != spaces_.obs_dim) {
     throw Error("rl2 actor: expected obs (N, " + std::to_string(spaces_.obs_dim) + ")");
   }
-  if (!state.tensors[kHidden].defined() || state.tensors[kHidden].size(0) != n) {
-    std::optional<at::Generator> own = state.generator;
-    state = Initial(n);
-    state.generator = own;
-  }
+  RestartUnlessSized(*this, state, kHidden, n);
   const torch::Tensor x = torch::cat({obs, state.tensors[kContext]}, -1).unsqueeze(0);
   auto [out, h] = gru_->Forward(x, state.tensors[kHidden]);
   state.tensors[kHidden] = h;
@@ -123,12 +109,7 @@ ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorS
 void Rl2Learner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
   if (scope == ResetScope::kEpisode) return;  // the trial goes on
   c10::InferenceMode inference;
-  if (!state.tensors[kHidden].defined() || state.tensors[kHidden].size(0) != envs.size(0)) {
-    std::optional<at::Generator> own = state.generator;
-    state = Initial(envs.size(0));
-    state.generator = own;
-    return;
-  }
+  if (RestartUnlessSized(*this, state, kHidden, envs.size(0))) return;
   const torch::Tensor keep = envs.to(torch::kBool).logical_not().unsqueeze(1).to(torch::kFloat32);
   state.tensors[kHidden] = state.tensors[kHidden] * keep;
   state.tensors[kContext] = state.tensors[kContext] * keep;
@@ -227,38 +208,28 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
   return metrics;
 }
 
+template <typename Archive, typename Self>
+void Rl2Learner::TransferNetworks(Archive& archive, Self& self) {
+  Transfer(archive, "gru", *self.gru_);
+  Transfer(archive, "head", *self.head_);
+  Transfer(archive, "gru_optimizer", self.optimizers_[0]);
+  Transfer(archive, "head_optimizer", self.optimizers_[1]);
+  Transfer(archive, "linear_baseline", self.baseline_);
+}
+
 void Rl2Learner::Save(torch::serialize::OutputArchive& archive) const {
-  archive.write("algo", torch::tensor(kCheckpointCode, torch::kInt64));
-  archive.write("sizes",
-                torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim}, torch::kInt64));
-  WriteModule(archive, "gru", *gru_);
-  WriteModule(archive, "head", *head_);
-  WriteOptimizer(archive, "gru_optimizer", optimizers_[0]);
-  WriteOptimizer(archive, "head_optimizer", optimizers_[1]);
-  archive.write("linear_baseline", baseline_.coefficients());
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", generator_.get_state());
+  WriteSignature(archive, kCheckpointCode, {spaces_.obs_dim, context_dim_, config_.hidden_dim});
+  TransferNetworks(archive, *this);
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void Rl2Learner::Load(torch::serialize::InputArchive& archive) {
-  torch::Tensor algo, sizes, coefficients, num_updates, state;
-  const torch::Tensor expected =
-      torch::tensor({spaces_.obs_dim, context_dim_, config_.hidden_dim}, torch::kInt64);
-  if (!archive.try_read("algo", algo) || algo.numel() != 1 ||
-      algo.item<int64_t>() != kCheckpointCode || !archive.try_read("sizes", sizes) ||
-      !torch::equal(sizes, expected)) {
+  if (!HasSignature(archive, kCheckpointCode,
+                    {spaces_.obs_dim, context_dim_, config_.hidden_dim})) {
     throw Error("rl2 checkpoint: not a checkpoint of RL2 with these sizes");
   }
-  ReadModule(archive, "gru", *gru_);
-  ReadModule(archive, "head", *head_);
-  ReadOptimizer(archive, "gru_optimizer", optimizers_[0]);
-  ReadOptimizer(archive, "head_optimizer", optimizers_[1]);
-  archive.read("linear_baseline", coefficients);
-  baseline_.set_coefficients(coefficients);
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", state);
-  generator_.set_state(state);
+  TransferNetworks(archive, *this);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

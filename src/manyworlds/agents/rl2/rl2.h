@@ -75,6 +75,10 @@ class Rl2Learner : public OnPolicyLearner, public Actor {
   const std::vector<nn::FlatModule*>& modules() const { return modules_; }
 
  private:
+  // The checkpoint's networks and optimizers in Save's order; Load reads the
+  // same list (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferNetworks(Archive& archive, Self& self);
   // The policy over a (T, N, input) sequence from a zero state.
   nn::ActionDistribution Unroll(const torch::Tensor& x) const;
 

@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "manyworlds/agents/archive_io.h"
+#include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/nn/pcgrad.h"
+#include "manyworlds/nn/task_conditioning.h"
 #include "manyworlds/nn/threads.h"
 
 namespace manyworlds::agents {
@@ -21,11 +23,6 @@ nn::AdamOptions Adam(const SacConfig& config, double lr) {
   options.beta1 = config.adam_beta1;
   options.beta2 = config.adam_beta2;
   return options;
-}
-
-const SacConfig& Validated(const SacConfig& config) {
-  config.Validate();
-  return config;
 }
 
 int64_t ArchCode(const std::string& architecture) {
@@ -76,6 +73,22 @@ int PoolThreads(const SacConfig& config, int64_t shards) {
   return static_cast<int>(std::min(threads, shards));
 }
 
+// The temperatures of a checkpoint ("log_alpha"): written as they are; read
+// into `log_alpha` (Error on another number of them).
+void TransferLogAlpha(torch::serialize::OutputArchive& archive, const torch::Tensor& log_alpha) {
+  archive.write("log_alpha", log_alpha);
+}
+
+void TransferLogAlpha(torch::serialize::InputArchive& archive, const torch::Tensor& log_alpha) {
+  torch::Tensor saved;
+  archive.read("log_alpha", saved);
+  if (saved.numel() != log_alpha.numel()) {
+    throw Error("SacLearner::Load: checkpoint has " + std::to_string(saved.numel()) +
+                " temperatures, this learner " + std::to_string(log_alpha.numel()));
+  }
+  log_alpha.copy_(saved.reshape({-1}));
+}
+
 }  // namespace
 
 torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& done,
@@ -113,12 +126,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   // mixture encoder, actor, critics).
   const int64_t embed = config.task_embedding_dim;
   if (arch_ == Arch::kTaskEncoder || arch_ == Arch::kMoe) {
-    nn::TaskEncoderOptions task;
-    task.num_tasks = num_tasks;
-    task.embedding_dim = embed;
-    task.hidden_dim = embed;
-    task.output_dim = embed;
-    task_encoder_ = nn::TaskEncoder(task, generator_);
+    task_encoder_ =
+        nn::TaskEncoder(nn::ConditioningTaskEncoderOptions(num_tasks, embed), generator_);
     task_encoder_optimizer_ =
         nn::FlatAdam(task_encoder_->num_params(), Adam(config, config.actor_lr));
   }
@@ -134,13 +143,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       input_dim_ = obs_dim + embed;
       break;
     case Arch::kMoe: {
-      nn::MixtureEncoderOptions moe;
-      moe.input_dim = obs_dim;
-      moe.context_dim = embed;
-      moe.output_dim = config.encoder_dim;
-      moe.hidden_dim = config.encoder_dim;
-      moe.num_experts = config.num_experts;
-      moe.selector_hidden_dim = embed;
+      const nn::MixtureEncoderOptions moe =
+          nn::ConditioningMixtureOptions(obs_dim, embed, config.encoder_dim, config.num_experts);
       encoder_ = nn::MixtureEncoder(moe, generator_);
       encoder_target_ = nn::MixtureEncoder(moe, generator_);
       encoder_target_->CopyFrom(*encoder_);
@@ -484,27 +488,31 @@ ActOutput SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_in
   return out;
 }
 
+template <typename Archive, typename Self>
+void SacLearner::TransferNetworks(Archive& archive, Self& self) {
+  Transfer(archive, "actor", *self.actor_->trunk());
+  Transfer(archive, "critic", *self.critic_->online());
+  Transfer(archive, "critic_target", *self.critic_->target());
+  TransferLogAlpha(archive, self.log_alpha_);
+  Transfer(archive, "actor_optimizer", self.actor_optimizer_);
+  Transfer(archive, "critic_optimizer", self.critic_optimizer_);
+  Transfer(archive, "alpha_optimizer", self.alpha_optimizer_);
+  if (self.task_encoder_) {
+    Transfer(archive, "task_encoder", *self.task_encoder_);
+    Transfer(archive, "task_encoder_optimizer", self.task_encoder_optimizer_);
+  }
+  if (self.encoder_) {
+    Transfer(archive, "encoder", *self.encoder_);
+    Transfer(archive, "encoder_target", *self.encoder_target_);
+    Transfer(archive, "encoder_optimizer", self.encoder_optimizer_);
+  }
+}
+
 void SacLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("architecture", torch::tensor(static_cast<int64_t>(arch_), torch::kInt64));
   archive.write("num_tasks", torch::tensor(num_tasks_, torch::kInt64));
-  WriteModule(archive, "actor", *actor_->trunk());
-  WriteModule(archive, "critic", *critic_->online());
-  WriteModule(archive, "critic_target", *critic_->target());
-  archive.write("log_alpha", log_alpha_);
-  WriteOptimizer(archive, "actor_optimizer", actor_optimizer_);
-  WriteOptimizer(archive, "critic_optimizer", critic_optimizer_);
-  WriteOptimizer(archive, "alpha_optimizer", alpha_optimizer_);
-  if (task_encoder_) {
-    WriteModule(archive, "task_encoder", *task_encoder_);
-    WriteOptimizer(archive, "task_encoder_optimizer", task_encoder_optimizer_);
-  }
-  if (encoder_) {
-    WriteModule(archive, "encoder", *encoder_);
-    WriteModule(archive, "encoder_target", *encoder_target_);
-    WriteOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  }
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", generator_.get_state());
+  TransferNetworks(archive, *this);
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void SacLearner::Load(torch::serialize::InputArchive& archive) {
@@ -522,32 +530,8 @@ void SacLearner::Load(torch::serialize::InputArchive& archive) {
                 std::to_string(tasks.item<int64_t>()) + " tasks, this learner '" +
                 config_.architecture + "' with " + std::to_string(num_tasks_));
   }
-  ReadModule(archive, "actor", *actor_->trunk());
-  ReadModule(archive, "critic", *critic_->online());
-  ReadModule(archive, "critic_target", *critic_->target());
-  torch::Tensor log_alpha, num_updates, generator_state;
-  archive.read("log_alpha", log_alpha);
-  if (log_alpha.numel() != log_alpha_.numel()) {
-    throw Error("SacLearner::Load: checkpoint has " + std::to_string(log_alpha.numel()) +
-                " temperatures, this learner " + std::to_string(log_alpha_.numel()));
-  }
-  log_alpha_.copy_(log_alpha.reshape({-1}));
-  ReadOptimizer(archive, "actor_optimizer", actor_optimizer_);
-  ReadOptimizer(archive, "critic_optimizer", critic_optimizer_);
-  ReadOptimizer(archive, "alpha_optimizer", alpha_optimizer_);
-  if (task_encoder_) {
-    ReadModule(archive, "task_encoder", *task_encoder_);
-    ReadOptimizer(archive, "task_encoder_optimizer", task_encoder_optimizer_);
-  }
-  if (encoder_) {
-    ReadModule(archive, "encoder", *encoder_);
-    ReadModule(archive, "encoder_target", *encoder_target_);
-    ReadOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  }
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", generator_state);
-  generator_.set_state(generator_state);
+  TransferNetworks(archive, *this);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

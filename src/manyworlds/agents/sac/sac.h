@@ -153,6 +153,11 @@ class SacLearner : public OffPolicyLearner, public Actor {
   void Load(torch::serialize::InputArchive& archive) override;
 
  private:
+  // The checkpoint's networks and optimizers in Save's order; Load reads the
+  // same list (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferNetworks(Archive& archive, Self& self);
+
   enum class Arch { kMlp, kMultiHead, kTaskEncoder, kMoe };
 
   // What the critic loss trains: the online critics, then the encoders the

@@ -18,12 +18,29 @@ namespace {
 // Names of this actor's ActorState entries.
 constexpr char kLatent[] = "latent";
 
-const TePpoConfig& Validated(const TePpoConfig& c) {
-  c.Validate();
-  return c;
-}
-
 torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) { return on ? torch::softplus(x) : x; }
+
+// The std bounds of a latent network: init, min, max.
+struct StdBounds {
+  double init, min, max;
+};
+
+// The task encoder's or the inference network's options: a Gaussian latent of
+// latent_dim with a tanh-bounded mean and an output layer of gain 1, so that
+// tasks start with distinct latents.
+nn::StochasticPolicyOptions LatentNetworkOptions(int64_t input_dim, int64_t latent_dim,
+                                                 int64_t hidden_dim, int64_t num_layers,
+                                                 StdBounds std) {
+  return {.input_dim = input_dim,
+          .action_dim = latent_dim,
+          .hidden_dim = hidden_dim,
+          .num_layers = num_layers,
+          .init_std = std.init,
+          .min_std = std.min,
+          .max_std = std.max,
+          .output_gain = 1.0,
+          .tanh_mean = true};
+}
 
 constexpr double kLogSqrt2PiE = 1.4189385332046727;  // 0.5 * log(2 pi e)
 
@@ -70,40 +87,19 @@ TePpoLearner::TePpoLearner(const TePpoConfig& config, const PolicySpaces& spaces
   }
   nn::ConfigureTorchThreads();
   const int64_t z = config.latent_dim;
-  nn::StochasticPolicyOptions p;
-  p.input_dim = spaces.obs_dim + z;
-  p.action_dim = spaces.action_dim;
-  p.num_actions = spaces.num_actions;
-  p.hidden_dim = config.hidden_dim;
-  p.num_layers = config.num_layers;
-  p.init_std = config.init_std;
-  p.min_std = config.min_std;
-  p.max_std = config.max_std;
-  policy_ = nn::StochasticPolicy(p, generator_);
-
-  nn::StochasticPolicyOptions e;
-  e.input_dim = spaces.num_tasks;
-  e.action_dim = z;
-  e.hidden_dim = config.encoder_hidden_dim;
-  e.num_layers = config.encoder_num_layers;
-  e.init_std = config.encoder_init_std;
-  e.min_std = config.encoder_min_std;
-  e.max_std = config.encoder_max_std;
-  e.output_gain = 1.0;  // tasks start with distinct latents
-  e.tanh_mean = true;
-  encoder_ = nn::StochasticPolicy(e, generator_);
-
-  nn::StochasticPolicyOptions q;
-  q.input_dim = config.inference_window * spaces.obs_dim;
-  q.action_dim = z;
-  q.hidden_dim = config.inference_hidden_dim;
-  q.num_layers = config.inference_num_layers;
-  q.init_std = config.inference_init_std;
-  q.min_std = config.inference_min_std;
-  q.max_std = config.inference_max_std;
-  q.output_gain = 1.0;
-  q.tanh_mean = true;
-  inference_ = nn::StochasticPolicy(q, generator_);
+  policy_ = nn::StochasticPolicy(PolicyNetworkOptions(config, spaces, spaces.obs_dim + z),
+                                 generator_);
+  encoder_ = nn::StochasticPolicy(
+      LatentNetworkOptions(
+          spaces.num_tasks, z, config.encoder_hidden_dim, config.encoder_num_layers,
+          {config.encoder_init_std, config.encoder_min_std, config.encoder_max_std}),
+      generator_);
+  inference_ = nn::StochasticPolicy(
+      LatentNetworkOptions(config.inference_window * spaces.obs_dim, z,
+                           config.inference_hidden_dim, config.inference_num_layers,
+                           {config.inference_init_std, config.inference_min_std,
+                            config.inference_max_std}),
+      generator_);
 
   policy_optimizer_ = nn::FlatAdam(policy_->num_params(), nn::AdamOptions{.lr = config.lr});
   encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), nn::AdamOptions{.lr = config.lr});
@@ -149,12 +145,7 @@ ActorState TePpoLearner::Initial(int64_t num_envs) {
 
 void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& state) {
   c10::InferenceMode inference;
-  if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != envs.size(0)) {
-    std::optional<at::Generator> own = state.generator;
-    state = Initial(envs.size(0));
-    state.generator = own;
-    return;
-  }
+  if (RestartUnlessSized(*this, state, kLatent, envs.size(0))) return;
   state.tensors[kLatent] = torch::where(envs.to(torch::kBool).unsqueeze(1),
                                         torch::full({}, std::numeric_limits<float>::quiet_NaN()),
                                         state.tensors[kLatent]);
@@ -173,11 +164,7 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   if (mode == ActMode::kDeterministic) {
     latent = encoder_->Forward(OneHot(task_index)).mean;
   } else {
-    if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != n) {
-      std::optional<at::Generator> own = state.generator;
-      state = Initial(n);
-      state.generator = own;
-    }
+    RestartUnlessSized(*this, state, kLatent, n);
     const torch::Tensor fresh = state.tensors[kLatent].select(1, 0).isnan();
     if (fresh.any().item<bool>()) {  // the encoder runs only where episodes begin
       const torch::Tensor drawn =
@@ -367,28 +354,27 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
   return metrics;
 }
 
+template <typename Archive, typename Self>
+void TePpoLearner::TransferNetworks(Archive& archive, Self& self) {
+  Transfer(archive, "policy", *self.policy_);
+  Transfer(archive, "encoder", *self.encoder_);
+  Transfer(archive, "inference", *self.inference_);
+  Transfer(archive, "policy_optimizer", self.policy_optimizer_);
+  Transfer(archive, "encoder_optimizer", self.encoder_optimizer_);
+  Transfer(archive, "inference_optimizer", self.inference_optimizer_);
+  TransferBaseline(archive, self.value_, self.value_optimizer_, self.linear_);
+}
+
 void TePpoLearner::Save(torch::serialize::OutputArchive& archive) const {
   // the key names the algorithm; PPO and TRPO checkpoints do not have it
   archive.write("te_ppo_latent_dim", torch::tensor(config_.latent_dim, torch::kInt64));
   archive.write("num_tasks", torch::tensor(spaces_.num_tasks, torch::kInt64));
-  WriteModule(archive, "policy", *policy_);
-  WriteModule(archive, "encoder", *encoder_);
-  WriteModule(archive, "inference", *inference_);
-  WriteOptimizer(archive, "policy_optimizer", policy_optimizer_);
-  WriteOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  WriteOptimizer(archive, "inference_optimizer", inference_optimizer_);
-  if (value_) {
-    WriteModule(archive, "value", *value_);
-    WriteOptimizer(archive, "value_optimizer", value_optimizer_);
-  } else {
-    archive.write("linear_baseline", linear_->coefficients());
-  }
-  archive.write("num_updates", torch::tensor(num_updates_, torch::kInt64));
-  archive.write("generator", generator_.get_state());
+  TransferNetworks(archive, *this);
+  WriteProgress(archive, num_updates_, generator_);
 }
 
 void TePpoLearner::Load(torch::serialize::InputArchive& archive) {
-  torch::Tensor latent_dim, num_tasks, num_updates, state;
+  torch::Tensor latent_dim, num_tasks;
   if (!archive.try_read("te_ppo_latent_dim", latent_dim) ||
       !archive.try_read("num_tasks", num_tasks) ||
       latent_dim.item<int64_t>() != config_.latent_dim ||
@@ -397,24 +383,8 @@ void TePpoLearner::Load(torch::serialize::InputArchive& archive) {
                 std::to_string(config_.latent_dim) + " and " + std::to_string(spaces_.num_tasks) +
                 " tasks");
   }
-  ReadModule(archive, "policy", *policy_);
-  ReadModule(archive, "encoder", *encoder_);
-  ReadModule(archive, "inference", *inference_);
-  ReadOptimizer(archive, "policy_optimizer", policy_optimizer_);
-  ReadOptimizer(archive, "encoder_optimizer", encoder_optimizer_);
-  ReadOptimizer(archive, "inference_optimizer", inference_optimizer_);
-  if (value_) {
-    ReadModule(archive, "value", *value_);
-    ReadOptimizer(archive, "value_optimizer", value_optimizer_);
-  } else {
-    torch::Tensor coefficients;
-    archive.read("linear_baseline", coefficients);
-    linear_->set_coefficients(coefficients);
-  }
-  archive.read("num_updates", num_updates);
-  num_updates_ = num_updates.item<int64_t>();
-  archive.read("generator", state);
-  generator_.set_state(state);
+  TransferNetworks(archive, *this);
+  ReadProgress(archive, num_updates_, generator_);
 }
 
 }  // namespace manyworlds::agents

@@ -78,6 +78,10 @@ class TePpoLearner : public OnPolicyLearner, public Actor {
                                         int64_t window);
 
  private:
+  // The checkpoint's networks and optimizers in Save's order; Load reads the
+  // same list (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferNetworks(Archive& archive, Self& self);
   torch::Tensor OneHot(const torch::Tensor& task_index) const;
   torch::Tensor BaselineInput(const torch::Tensor& obs, const torch::Tensor& one_hot,
                               const torch::Tensor& latent) const;

@@ -8,15 +8,6 @@
 #include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
-namespace {
-
-const TrpoConfig& Validated(const TrpoConfig& c) {
-  c.Validate();
-  return c;
-}
-
-}  // namespace
-
 void TrpoConfig::Validate() const {
   PolicyGradientConfig::Validate();
   RequireField(FinitePositive(max_kl), "max_kl", "finite and > 0", max_kl);
