@@ -234,8 +234,9 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
   const std::string discrete = ErrorOf([&] { Trainer::Create(sac); });
   EXPECT_NE(discrete.find("Discrete"), std::string::npos) << discrete;
   EXPECT_NE(discrete.find("ppo"), std::string::npos) << discrete;
-  // the registry lists every algorithm with its family
-  ASSERT_EQ(Algorithms().size(), 7u);
+  // the registry lists every algorithm with its family (no count here: a new
+  // row must not need an edit of this test)
+  ASSERT_GE(Algorithms().size(), 7u);
   EXPECT_EQ(FindAlgorithm("pearl").family, AlgorithmFamily::kOffPolicy);
   EXPECT_EQ(FindAlgorithm("trpo").family, AlgorithmFamily::kOnPolicy);
   // every name has its own config and a builder (a short run per algorithm)
