@@ -115,6 +115,20 @@ RewardTerms PressRewardTerms(const SawyerState& s, const PressReward& parts) {
   return terms;
 }
 
+RewardTerms ReachAndMoveTerms(const ReachAndMove& parts) {
+  RewardTerms terms;
+  terms.reward = 10.0 * (parts.ten_at_success && parts.success
+                             ? 1.0
+                             : HamacherProduct(parts.reach, parts.in_place));
+  terms.success = parts.success;
+  terms.near_object = parts.near ? 1.0 : 0.0;
+  terms.grasp_success = 1.0;
+  terms.grasp_reward = parts.reach;
+  terms.in_place_reward = parts.in_place;
+  terms.obj_to_target = parts.obj_to_target;
+  return terms;
+}
+
 void GraspAndMove(const SawyerObs& o, const Vec3& grasp, const Vec3& move_to, double approach_grip,
                   std::span<float> action, double carry_speed, double approach_height) {
   const auto hand_for_tcp = [](const Vec3& tcp) {

@@ -89,6 +89,20 @@ struct PressReward {
 // grasp_success: the gripper is not shut.
 RewardTerms PressRewardTerms(const SawyerState& state, const PressReward& parts);
 
+// The reward and info of the tasks that reach the handle and move it
+// (dial-turn, window-open/close, drawer-close, handle-press), which
+// ReachAndMoveTerms builds: reward 10 H(reach, in_place), or 10 on success
+// where ten_at_success; grasp_success 1.
+struct ReachAndMove {
+  double reach = 0;          // info grasp_reward
+  double in_place = 0;       // info in_place_reward
+  double obj_to_target = 0;  // info obj_to_target
+  bool success = false;
+  bool near = false;  // info near_object
+  bool ten_at_success = false;
+};
+RewardTerms ReachAndMoveTerms(const ReachAndMove& parts);
+
 // ---- Scripted-policy moves (stateless functions of the observation) ----
 
 // Grasps a handle at `grasp` with the tcp and then moves the grasp point

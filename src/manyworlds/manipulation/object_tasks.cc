@@ -67,15 +67,32 @@ void PlaceFixture(mjModel* m, int body, const Vec3& pos) {
   for (int i = 0; i < 3; ++i) m->body_pos[3 * body + i] = pos[i];
 }
 
+bool OpenAndLifted(const SawyerState& s) {
+  return s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2];
+}
+
 RewardTerms ObjectRewardTerms(const SawyerState& s, const ObjectReward& parts) {
   RewardTerms terms;
   terms.reward = parts.at_target ? 10.0 : parts.reward;
   terms.success = parts.obj_to_target <= parts.success_radius;
-  terms.near_object = parts.tcp_to_obj <= 0.03 ? 1.0 : 0.0;
+  terms.near_object = parts.tcp_to_obj <= parts.near_radius ? 1.0 : 0.0;
   terms.grasp_success = parts.grasp_success.value_or(GraspSuccess(s));
   terms.grasp_reward = parts.grasped;
   terms.in_place_reward = parts.in_place;
   terms.obj_to_target = parts.obj_to_target;
+  return terms;
+}
+
+RewardTerms GripRewardTerms(double reward, bool success, double near_object, double grab,
+                            double in_place) {
+  RewardTerms terms;
+  terms.reward = reward;
+  terms.success = success;
+  terms.near_object = near_object;
+  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
+  terms.grasp_reward = grab;
+  terms.in_place_reward = in_place;
+  terms.obj_to_target = 0.0;
   return terms;
 }
 

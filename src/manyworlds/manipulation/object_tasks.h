@@ -39,6 +39,10 @@ double SweepCaging(const SawyerState& state, double obj_radius, double band, dou
 // gripper not shut (opening > 0) and the object `lift` above its start.
 bool HeldAndLifted(const SawyerState& state, double tcp_radius, double lift);
 
+// The gripper is not shut and the object is 3 cm above its start (info
+// grasp_success of basketball and the handle pulls).
+bool OpenAndLifted(const SawyerState& state);
+
 // info grasp_success: a pad touches the object, the gripper is not shut and
 // the object is 2 cm above its start.
 double GraspSuccess(const SawyerState& state);
@@ -69,7 +73,8 @@ struct ObjectReward {
   bool at_target = false;     // ... or 10 when this holds
   double obj_to_target = 0;   // info obj_to_target
   double success_radius = 0;  // success: obj_to_target within it
-  double tcp_to_obj = 0;      // near_object: within 3 cm
+  double tcp_to_obj = 0;      // near_object: within near_radius
+  double near_radius = 0.03;
   double grasped = 0;         // info grasp_reward
   double in_place = 0;        // info in_place_reward
   // info grasp_success; unset: GraspSuccess
@@ -77,6 +82,13 @@ struct ObjectReward {
 };
 // The reward and info of `parts`.
 RewardTerms ObjectRewardTerms(const SawyerState& state, const ObjectReward& parts);
+
+// The reward and info of the tasks that grip a handle or tool and move it
+// (door-open, assembly, disassemble, hammer, box-close): grasp_success once
+// the grip effort `grab` reaches 0.5, grasp_reward grab, in_place_reward
+// in_place, obj_to_target 0 (v3 reports none).
+RewardTerms GripRewardTerms(double reward, bool success, double near_object, double grab,
+                            double in_place);
 
 // A free-object task with a static fixture that stands at the goal (a hoop,
 // shelf, net, box): every reset puts the fixture body's frame at goal -

@@ -53,11 +53,18 @@ double PickPlace(const SawyerState& s, double gripper_action, double place_dist,
 RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double success_radius,
                           bool lift_from_start) {
   const double obj_to_target = Distance(s.obj, s.goal);
+  return StepTerms(
+      PickPlace(s, gripper_action, obj_to_target, obj_to_target, 2.0, lift_from_start),
+      obj_to_target, success_radius);
+}
+
+RewardTerms StepTerms(double reward, double obj_to_target, double success_radius,
+                      double grasp_success) {
   RewardTerms terms;
-  terms.reward =
-      PickPlace(s, gripper_action, obj_to_target, obj_to_target, 2.0, lift_from_start);
+  terms.reward = reward;
   terms.success = obj_to_target <= success_radius;
   terms.near_object = 1.0;
+  terms.grasp_success = grasp_success;
   terms.obj_to_target = obj_to_target;
   return terms;
 }
@@ -71,13 +78,8 @@ void InitPickPlace(SawyerState& s, double obj_height, double lift) {
 
 RewardTerms ReachThenProgressStep(const SawyerState& s, double reach_dist, double dist,
                                   double success_radius, double grasp_success, bool clamp) {
-  RewardTerms terms;
-  terms.reward = ReachThenProgress(reach_dist, s.v1_max_dist, dist, clamp);
-  terms.success = dist <= success_radius;
-  terms.near_object = 1.0;
-  terms.grasp_success = grasp_success;
-  terms.obj_to_target = dist;
-  return terms;
+  return StepTerms(ReachThenProgress(reach_dist, s.v1_max_dist, dist, clamp), dist,
+                   success_radius, grasp_success);
 }
 
 RewardTerms PushStep(const SawyerState& s, double success_radius) {

@@ -67,6 +67,12 @@ RewardTerms PickPlaceStep(const SawyerState& s, double gripper_action, double su
 // max_dist = |(obj_init.xy, height_target) - goal| + height_target.
 void InitPickPlace(SawyerState& s, double obj_height, double lift);
 
+// The reward and info v3's evaluate_state builds from v1's (reward, 0, 0,
+// obj_to_target, 0, 0): success within success_radius, near_object 1,
+// grasp_success as given (0 in most tasks).
+RewardTerms StepTerms(double reward, double obj_to_target, double success_radius,
+                      double grasp_success = 0.0);
+
 // The v1 step of the push, pull, press and turn tasks: ReachThenProgress
 // (reach_dist, s.v1_max_dist, dist, clamp), and the info v3's evaluate_state
 // builds from v1's (reward, 0, 0, dist, 0, 0): success within

@@ -1,19 +1,18 @@
 #include "manyworlds/manipulation/wall.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "manyworlds/manipulation/grasp_policy.h"
 
 namespace manyworlds::manipulation::wall {
 
-SawyerTaskConfig WallConfig(double goal_z_low, double goal_z_high) {
-  SawyerTaskConfig config;
+SawyerTaskConfig WallConfig(std::string id, std::string description, std::string xml_file,
+                            double goal_z_low, double goal_z_high) {
   // v3 draws the puck at z 0.015; ours rests at its half-height, 0.02.
-  config.obj_low = {-0.05, 0.6, 0.02};
-  config.obj_high = {0.05, 0.65, 0.02};
-  config.goal_low = {-0.05, 0.85, goal_z_low};
-  config.goal_high = {0.05, 0.9, goal_z_high};
-  return config;
+  return TaskConfig(std::move(id), std::move(description), std::move(xml_file),
+                    {{-0.05, 0.6, 0.02}, {0.05, 0.65, 0.02}},
+                    {{-0.05, 0.85, goal_z_low}, {0.05, 0.9, goal_z_high}});
 }
 
 void CarryOverWall(const SawyerObs& o, const Vec3& goal, std::span<float> action) {

@@ -7,6 +7,7 @@
 #define MANYWORLDS_MANIPULATION_WALL_H_
 
 #include <span>
+#include <string>
 
 #include "manyworlds/manipulation/policy_utils.h"
 #include "manyworlds/manipulation/sawyer_task.h"
@@ -18,8 +19,10 @@ inline constexpr double kWallFarY = 0.76;
 // Carrying height that clears the wall with a held 4 cm puck.
 inline constexpr double kOverWall = 0.17;
 
-// The ranges all three share; the goal's z range is the task's.
-SawyerTaskConfig WallConfig(double goal_z_low, double goal_z_high);
+// Task `id`'s config with the ranges all three share; the goal's z range
+// is the task's.
+SawyerTaskConfig WallConfig(std::string id, std::string description, std::string xml_file,
+                            double goal_z_low, double goal_z_high);
 
 // Grasp the puck, lift it over the wall, then carry it to `goal` (the
 // puck's centre at the end).

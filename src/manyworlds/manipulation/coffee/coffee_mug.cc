@@ -87,13 +87,7 @@ RewardTerms CoffeeMugTask::ComputeRewardV1(const SawyerState& s,
   const double bonus =
       reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, xy_dist), 0.0) : 0.0;
   const double obj_to_target = Distance(s.obj, s.goal);
-  RewardTerms terms;
-  terms.reward = reach + bonus;
-  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0)
-  terms.success = obj_to_target <= 0.07;
-  terms.near_object = 1.0;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return v1::StepTerms(reach + bonus, obj_to_target, 0.07);
 }
 
 RewardTerms CoffeeMugTask::ComputeReward(const SawyerState& s, std::span<const float> action) const {

@@ -66,15 +66,10 @@ RewardTerms BoxClose::ComputeReward(const SawyerState& s, std::span<const float>
       0.2 * (lid[2] > 0.04 ? 1.0 : 0.0) +
       0.8 * LongTailTolerance(WeightedDistance(s.goal, lid, {1.0, 1.0, 3.0}), 0.0, 0.05, 0.25);
 
-  RewardTerms terms;
-  terms.success = Distance(s.obj, s.goal) < 0.08;
-  terms.reward = quat * (terms.success ? 10.0 : 2.0 * HamacherProduct(grab, ready) + 8.0 * lifted);
-  terms.near_object = ready;
-  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
-  terms.grasp_reward = grab;
-  terms.in_place_reward = lifted;
-  terms.obj_to_target = 0.0;
-  return terms;
+  const bool success = Distance(s.obj, s.goal) < 0.08;
+  const double reward =
+      quat * (success ? 10.0 : 2.0 * HamacherProduct(grab, ready) + 8.0 * lifted);
+  return GripRewardTerms(reward, success, ready, grab, lifted);
 }
 
 void BoxClose::InitTaskState(SawyerState& s) const { v1::InitPickPlace(s, kV1ObjHeight, kV1Lift); }

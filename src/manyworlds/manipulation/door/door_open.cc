@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "manyworlds/manipulation/door/door_fixture.h"
+#include "manyworlds/manipulation/object_tasks.h"
 #include "manyworlds/manipulation/reward_v1.h"
 
 namespace manyworlds::manipulation {
@@ -56,15 +57,8 @@ RewardTerms DoorOpen::ComputeReward(const SawyerState& s, std::span<const float>
   const double grab = GripEffort(action);
   const bool success = std::abs(s.obj[0] - s.goal[0]) <= kSuccessX;
 
-  RewardTerms terms;
-  terms.reward = success ? 10.0 : 2.0 * HamacherProduct(ready, grab) + 8.0 * opened;
-  terms.success = success;
-  terms.near_object = ready;
-  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
-  terms.grasp_reward = grab;
-  terms.in_place_reward = opened;
-  terms.obj_to_target = 0.0;
-  return terms;
+  return GripRewardTerms(success ? 10.0 : 2.0 * HamacherProduct(ready, grab) + 8.0 * opened,
+                         success, ready, grab, opened);
 }
 
 void DoorOpen::InitTaskState(SawyerState& s) const {

@@ -127,16 +127,9 @@ RewardTerms DrawerClose::ComputeReward(const SawyerState& s, std::span<const flo
                                         std::abs(Distance(s.obj_init, s.tcp_init) - kReachRadius));
   const double closed = std::clamp(static_cast<double>(action[3]), 0.0, 1.0);
   const double reach = HamacherProduct(near, closed);
-  const bool success = target_to_obj <= kCloseSuccess;
-  RewardTerms terms;
-  terms.reward = 10.0 * (success ? 1.0 : HamacherProduct(reach, in_place));
-  terms.success = success;
-  terms.near_object = tcp_to_obj <= 0.01 ? 1.0 : 0.0;
-  terms.grasp_success = 1.0;
-  terms.grasp_reward = reach;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = target_to_obj;
-  return terms;
+  return ReachAndMoveTerms({.reach = reach, .in_place = in_place, .obj_to_target = target_to_obj,
+                            .success = target_to_obj <= kCloseSuccess,
+                            .near = tcp_to_obj <= 0.01, .ten_at_success = true});
 }
 
 void DrawerOpenScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -56,13 +56,10 @@ FixtureSpec Fixture(bool side, double joint_init, double goal_z, Vec3 shift = {}
 }
 
 CagingParams PullCaging(double radius, double pad_threshold) {
-  CagingParams p;
-  p.obj_radius = radius;
-  p.pad_success_thresh = pad_threshold;
-  p.object_reach_radius = 0.01;
-  p.xz_thresh = 0.01;
-  p.high_density = true;
-  return p;
+  return CagingParams{.obj_radius = radius,
+                      .pad_success_thresh = pad_threshold,
+                      .xz_thresh = 0.01,
+                      .high_density = true};
 }
 
 // The pull reward around d (the task's distance to the goal) and its
@@ -73,17 +70,12 @@ RewardTerms PullTerms(const SawyerState& s, std::span<const float> action, doubl
   const double in_place = LongTailTolerance(d, 0.0, kPullRadius, d_init);
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double tcp_to_obj = Distance(s.obj, s.tcp);
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
-  if (tcp_to_obj < 0.035 && s.gripper_opening > 0 && bonus_ok) terms.reward += 1.0 + 5.0 * in_place;
-  if (d < kPullRadius) terms.reward = 10.0;
-  terms.success = d <= success_radius;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2] ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = d;
-  return terms;
+  double reward = HamacherProduct(grasped, in_place);
+  if (tcp_to_obj < 0.035 && s.gripper_opening > 0 && bonus_ok) reward += 1.0 + 5.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = d < kPullRadius, .obj_to_target = d,
+                               .success_radius = success_radius, .tcp_to_obj = tcp_to_obj,
+                               .near_radius = 0.05, .grasped = grasped, .in_place = in_place,
+                               .grasp_success = OpenAndLifted(s) ? 1.0 : 0.0});
 }
 
 }  // namespace
@@ -109,15 +101,9 @@ RewardTerms HandlePressTask::ComputeReward(const SawyerState& s, std::span<const
   const double tcp_to_obj = Distance(s.obj, s.tcp);
   const double tcp_to_obj_init = Distance(s.handle_init, s.tcp_init);
   const double reach = LongTailTolerance(tcp_to_obj, 0.0, 0.02, std::abs(tcp_to_obj_init - 0.02));
-  RewardTerms terms;
-  terms.reward = 10.0 * (d <= kPressRadius ? 1.0 : HamacherProduct(reach, in_place));
-  terms.success = d <= kPressRadius;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = 1.0;
-  terms.grasp_reward = reach;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = d;
-  return terms;
+  return ReachAndMoveTerms({.reach = reach, .in_place = in_place, .obj_to_target = d,
+                            .success = d <= kPressRadius, .near = tcp_to_obj <= 0.05,
+                            .ten_at_success = true});
 }
 
 void HandlePressTask::InitTaskState(SawyerState& s) const {

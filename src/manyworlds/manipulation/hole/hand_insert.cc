@@ -61,12 +61,7 @@ RewardTerms HandInsert::ComputeRewardV1(const SawyerState& s, std::span<const fl
   // v3's evaluate_state on v1's (reward, 0, 0, |obj_init - goal|, 0, 0): the
   // distance (and so success) never changes during an episode
   const double obj_to_target = Distance(s.obj_init, s.goal);
-  RewardTerms terms;
-  terms.reward = -reach_xy + std::max(near, 0.0);
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return v1::StepTerms(-reach_xy + std::max(near, 0.0), obj_to_target, kTargetRadius);
 }
 
 void HandInsertScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

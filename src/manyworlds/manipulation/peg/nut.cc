@@ -48,15 +48,8 @@ double GrabReward(const SawyerState& s, float gripper_action, bool medium_densit
 
 RewardTerms NutReward(const SawyerState& s, double grab, double in_place, bool success) {
   const double quat = QuatReward(s);
-  RewardTerms terms;
-  terms.reward = success ? 10.0 : (2.0 * grab + 6.0 * in_place) * quat;
-  terms.success = success;
-  terms.near_object = quat;
-  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
-  terms.grasp_reward = grab;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = 0.0;
-  return terms;
+  return GripRewardTerms(success ? 10.0 : (2.0 * grab + 6.0 * in_place) * quat, success, quat,
+                         grab, in_place);
 }
 
 // The ring's centre from the observed handle and the nut's (w, x, y, z).
@@ -70,11 +63,6 @@ Vec3 RingCentre(std::span<const float> env_obs) {
           env_obs[kObsObj1Pos + 2] + along[2]};
 }
 
-SawyerTaskConfig NutConfig() {
-  SawyerTaskConfig config;
-  config.obj_quat = QuatLayout::kWxyz;
-  return config;
-}
 
 }  // namespace
 
@@ -104,16 +92,12 @@ void NutTask::RefreshTaskState(const mjData* d, SawyerState& state) const {
 }
 
 SawyerTaskConfig Assembly::Config() {
-  SawyerTaskConfig config = NutConfig();
-  config.id = "assembly";
-  config.description = "Sawyer arm: pick up a nut by its handle and put it onto a peg";
-  config.xml_file = "assembly.xml";
+  SawyerTaskConfig config = TaskConfig(
+      "assembly", "Sawyer arm: pick up a nut by its handle and put it onto a peg", "assembly.xml",
+      {{0.0, 0.6, 0.02}, {0.0, 0.6, 0.02}}, {{-0.1, 0.75, 0.1}, {0.1, 0.85, 0.1}});
   config.hand_init = {0.0, 0.6, 0.2};
-  config.obj_low = {0.0, 0.6, 0.02};
-  config.obj_high = {0.0, 0.6, 0.02};
-  config.goal_low = {-0.1, 0.75, 0.1};
-  config.goal_high = {0.1, 0.85, 0.1};
   config.min_obj_goal_xy = 0.1;
+  config.obj_quat = QuatLayout::kWxyz;
   return config;
 }
 
@@ -136,17 +120,15 @@ RewardTerms Assembly::ComputeReward(const SawyerState& s, std::span<const float>
 }
 
 SawyerTaskConfig Disassemble::Config() {
-  SawyerTaskConfig config = NutConfig();
-  config.id = "disassemble";
-  config.description = "Sawyer arm: lift a nut by its handle off a peg";
-  config.xml_file = "disassemble.xml";
+  SawyerTaskConfig config =
+      TaskConfig("disassemble", "Sawyer arm: lift a nut by its handle off a peg", "disassemble.xml",
+                 {{0.0, 0.6, 0.025}, {0.1, 0.75, 0.02501}},
+                 {{0.0, 0.6, 0.025 + kDisassembleGoalAbove},
+                  {0.1, 0.75, 0.02501 + kDisassembleGoalAbove}});
   config.hand_init = {0.0, 0.4, 0.2};
-  config.obj_low = {0.0, 0.6, 0.025};
-  config.obj_high = {0.1, 0.75, 0.02501};
-  config.goal_low = {0.0, 0.6, 0.025 + kDisassembleGoalAbove};
-  config.goal_high = {0.1, 0.75, 0.02501 + kDisassembleGoalAbove};
   config.goal_z_at_object = false;
   config.min_obj_goal_xy = 0.0;
+  config.obj_quat = QuatLayout::kWxyz;
   return config;
 }
 

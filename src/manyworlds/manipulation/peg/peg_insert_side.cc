@@ -115,14 +115,8 @@ RewardTerms PegInsertSide::ComputeRewardV1(const SawyerState& s,
   const double head_to_target = Distance(s.obj_head, s.goal);
   // v3 rewards the head's distance until it is within 5 cm, then the peg's
   const double progress_dist = head_to_target <= 0.05 ? obj_to_target : head_to_target;
-  RewardTerms terms;
-  terms.reward = v1::PickPlace(s, action[3], obj_to_target, progress_dist, 1.0);
-  // v3's evaluate_state on v1's (reward, 0, 0, |obj - goal|, 0, 0, 0, 0)
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.grasp_success = 0.0;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  return v1::StepTerms(v1::PickPlace(s, action[3], obj_to_target, progress_dist, 1.0),
+                       obj_to_target, kTargetRadius);
 }
 
 void PegInsertSideScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -83,13 +83,7 @@ RewardTerms PegUnplugSide::ComputeRewardV1(const SawyerState& s,
   const double place_dist = std::hypot(s.obj[0] - s.goal[0], s.obj[1] - s.goal[1]);
   const double place =
       reach_dist < 0.05 ? std::max(v1::Progress(s.v1_max_dist, place_dist), 0.0) : 0.0;
-  RewardTerms terms;
-  terms.reward = reach + place;
-  // v3's evaluate_state on v1's (reward, 0, 0, place_dist, 0, 0, 0)
-  terms.success = place_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.obj_to_target = place_dist;
-  return terms;
+  return v1::StepTerms(reach + place, place_dist, kTargetRadius);
 }
 
 void PegUnplugSideScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

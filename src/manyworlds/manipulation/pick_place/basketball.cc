@@ -49,17 +49,13 @@ RewardTerms Basketball::ComputeReward(const SawyerState& s, std::span<const floa
   // A lifted ball counts as grasped whatever the pads look like.
   const double grasped = held ? 1.0 : CageObject(s, s.obj, action[3], caging);
 
-  RewardTerms terms;
-  terms.reward = HamacherProduct(grasped, in_place);
-  if (held) terms.reward += 1.0 + 5.0 * in_place;
-  if (obj_to_target < kTargetRadius) terms.reward = 10.0;
-  terms.success = obj_to_target <= kTargetRadius;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2] ? 1.0 : 0.0;
-  terms.grasp_reward = grasped;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = obj_to_target;
-  return terms;
+  double reward = HamacherProduct(grasped, in_place);
+  if (held) reward += 1.0 + 5.0 * in_place;
+  return ObjectRewardTerms(s, {.reward = reward, .at_target = obj_to_target < kTargetRadius,
+                               .obj_to_target = obj_to_target, .success_radius = kTargetRadius,
+                               .tcp_to_obj = tcp_to_obj, .near_radius = 0.05, .grasped = grasped,
+                               .in_place = in_place,
+                               .grasp_success = OpenAndLifted(s) ? 1.0 : 0.0});
 }
 
 void Basketball::InitTaskState(SawyerState& s) const {

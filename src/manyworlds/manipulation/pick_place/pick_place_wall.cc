@@ -10,11 +10,9 @@
 namespace manyworlds::manipulation {
 
 SawyerTaskConfig PickPlaceWall::Config() {
-  SawyerTaskConfig config = wall::WallConfig(0.05, 0.3);
-  config.id = "pick-place-wall";
-  config.description = "Sawyer arm: carry a puck over a wall to a goal in the air";
-  config.xml_file = "pick_place_wall.xml";
-  return config;
+  return wall::WallConfig("pick-place-wall",
+                          "Sawyer arm: carry a puck over a wall to a goal in the air",
+                          "pick_place_wall.xml", 0.05, 0.3);
 }
 
 PickPlaceWall::PickPlaceWall(SawyerOptions options) : SawyerTask(Config(), options) {}

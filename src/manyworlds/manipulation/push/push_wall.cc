@@ -10,10 +10,9 @@
 namespace manyworlds::manipulation {
 
 SawyerTaskConfig PushWall::Config() {
-  SawyerTaskConfig config = wall::WallConfig(0.01, 0.02);
-  config.id = "push-wall";
-  config.description = "Sawyer arm: push a puck past a wall to a goal on the table";
-  config.xml_file = "push_wall.xml";
+  SawyerTaskConfig config = wall::WallConfig(
+      "push-wall", "Sawyer arm: push a puck past a wall to a goal on the table", "push_wall.xml",
+      0.01, 0.02);
   config.goal_z_at_object = true;
   return config;
 }

@@ -11,21 +11,12 @@ namespace manyworlds::manipulation {
 
 SawyerTaskConfig Reach::Config(ReachVariant variant) {
   if (variant == ReachVariant::kWall) {
-    SawyerTaskConfig config = wall::WallConfig(0.05, 0.3);
-    config.id = "reach-wall";
-    config.description = "Sawyer arm: reach a goal behind a wall";
-    config.xml_file = "reach_wall.xml";
-    return config;
+    return wall::WallConfig("reach-wall", "Sawyer arm: reach a goal behind a wall",
+                            "reach_wall.xml", 0.05, 0.3);
   }
-  SawyerTaskConfig config;
-  config.id = "reach";
-  config.description = "Sawyer arm: move the gripper to a goal position in space";
-  config.xml_file = "reach.xml";
-  config.obj_low = {-0.1, 0.6, 0.02};
-  config.obj_high = {0.1, 0.7, 0.02};
-  config.goal_low = {-0.1, 0.8, 0.05};
-  config.goal_high = {0.1, 0.9, 0.3};
-  return config;
+  return TaskConfig("reach", "Sawyer arm: move the gripper to a goal position in space",
+                    "reach.xml", {{-0.1, 0.6, 0.02}, {0.1, 0.7, 0.02}},
+                    {{-0.1, 0.8, 0.05}, {0.1, 0.9, 0.3}});
 }
 
 Reach::Reach(ReachVariant variant, SawyerOptions options)

@@ -57,15 +57,9 @@ RewardTerms DialTurn::ComputeReward(const SawyerState& s, std::span<const float>
       GaussianTolerance(tcp_to_push, 0.0, kReachRadius,
                         std::abs(Distance(s.handle_init, s.tcp_init) - kReachRadius)),
       gripper_closed);
-  RewardTerms terms;
-  terms.reward = 10.0 * HamacherProduct(reach, in_place);
-  terms.success = target_to_obj <= kTargetRadius;
-  terms.near_object = tcp_to_push <= 0.01 ? 1.0 : 0.0;
-  terms.grasp_success = 1.0;
-  terms.grasp_reward = reach;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = target_to_obj;
-  return terms;
+  return ReachAndMoveTerms({.reach = reach, .in_place = in_place, .obj_to_target = target_to_obj,
+                            .success = target_to_obj <= kTargetRadius,
+                            .near = tcp_to_push <= 0.01});
 }
 
 void DialTurnScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -23,14 +23,17 @@ FixtureSpec Fixture(double side) {
   return fixture;
 }
 
-SawyerTaskConfig BaseConfig(double side) {
-  SawyerTaskConfig config;
-  config.xml_file = side > 0 ? "faucet_open.xml" : "faucet_close.xml";
+// side: +1 faucet-open (the goal to the right), -1 faucet-close.
+SawyerTaskConfig FaucetConfig(double side, const char* id, const char* description,
+                              const Range3& obj) {
+  SawyerTaskConfig config =
+      TaskConfig(id, description, side > 0 ? "faucet_open.xml" : "faucet_close.xml", obj);
   config.hand_init = {0.0, 0.4, 0.2};
   config.hand_low = {-0.5, 0.4, -0.15};
   config.hand_high = {0.5, 1.0, 0.5};
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "faucet_base";
+  UseGoalOffset({side * kArm, 0.0, kGoalHeight}, config);
   return config;
 }
 
@@ -62,13 +65,8 @@ RewardTerms FaucetRewardV1(const SawyerState& s) {
 }  // namespace
 
 SawyerTaskConfig FaucetOpen::Config() {
-  SawyerTaskConfig config = BaseConfig(1.0);
-  config.id = "faucet-open";
-  config.description = "Sawyer arm: turn a faucet's handle to the right";
-  config.obj_low = {-0.05, 0.8, 0.0};
-  config.obj_high = {0.05, 0.85, 0.0};
-  UseGoalOffset({kArm, 0.0, kGoalHeight}, config);
-  return config;
+  return FaucetConfig(1.0, "faucet-open", "Sawyer arm: turn a faucet's handle to the right",
+                      {{-0.05, 0.8, 0.0}, {0.05, 0.85, 0.0}});
 }
 
 FaucetOpen::FaucetOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(1.0), options) {}
@@ -79,13 +77,8 @@ RewardTerms FaucetOpen::ComputeReward(const SawyerState& s, std::span<const floa
 }
 
 SawyerTaskConfig FaucetClose::Config() {
-  SawyerTaskConfig config = BaseConfig(-1.0);
-  config.id = "faucet-close";
-  config.description = "Sawyer arm: turn a faucet's handle to the left";
-  config.obj_low = {-0.1, 0.8, 0.0};
-  config.obj_high = {0.1, 0.85, 0.0};
-  UseGoalOffset({-kArm, 0.0, kGoalHeight}, config);
-  return config;
+  return FaucetConfig(-1.0, "faucet-close", "Sawyer arm: turn a faucet's handle to the left",
+                      {{-0.1, 0.8, 0.0}, {0.1, 0.85, 0.0}});
 }
 
 FaucetClose::FaucetClose(SawyerOptions options)

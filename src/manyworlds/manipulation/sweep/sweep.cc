@@ -88,12 +88,7 @@ RewardTerms Sweep::ComputeRewardV1(const SawyerState& s, std::span<const float>)
     push_dist = 0.0;
   }
   if (reach_dist < 0.05) reward += std::max(v1::Progress(s.v1_max_dist, push_dist), 0.0);
-  RewardTerms terms;
-  terms.reward = reward;
-  terms.success = push_dist <= kTargetRadius;
-  terms.near_object = 1.0;
-  terms.obj_to_target = push_dist;
-  return terms;
+  return v1::StepTerms(reward, push_dist, kTargetRadius);
 }
 
 void SweepScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -85,16 +85,10 @@ RewardTerms Hammer::ComputeReward(const SawyerState& s, std::span<const float> a
   const double in_place = 0.1 * (head[2] > 0.02 ? 1.0 : 0.0) +
                           0.9 * LongTailTolerance(Distance(s.goal, head), 0.0, 0.02, 0.2);
 
-  RewardTerms terms;
-  terms.reward = (2.0 * grab + 6.0 * in_place) * level_reward;
-  terms.success = s.joint_qpos > kDrivenIn;
-  if (terms.success && terms.reward > 5.0) terms.reward = 10.0;
-  terms.near_object = level_reward;
-  terms.grasp_success = grab >= 0.5 ? 1.0 : 0.0;
-  terms.grasp_reward = grab;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = 0.0;
-  return terms;
+  const bool success = s.joint_qpos > kDrivenIn;
+  double reward = (2.0 * grab + 6.0 * in_place) * level_reward;
+  if (success && reward > 5.0) reward = 10.0;
+  return GripRewardTerms(reward, success, level_reward, grab, in_place);
 }
 
 void Hammer::InitTaskState(SawyerState& s) const {

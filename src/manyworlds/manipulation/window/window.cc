@@ -88,15 +88,9 @@ RewardTerms Window::ComputeReward(const SawyerState& s, std::span<const float>) 
   const double reach_margin = std::abs(Distance(s.handle_init, s.tcp_init) - kHandleRadius);
   const double reach = close ? GaussianTolerance(tcp_to_obj, 0.0, kHandleRadius, reach_margin)
                              : LongTailTolerance(tcp_to_obj, 0.0, kHandleRadius, reach_margin);
-  RewardTerms terms;
-  terms.reward = 10.0 * HamacherProduct(reach, in_place);
-  terms.success = target_to_obj <= kTargetRadius;
-  terms.near_object = tcp_to_obj <= 0.05 ? 1.0 : 0.0;
-  terms.grasp_success = 1.0;
-  terms.grasp_reward = reach;
-  terms.in_place_reward = in_place;
-  terms.obj_to_target = target_to_obj;
-  return terms;
+  return ReachAndMoveTerms({.reach = reach, .in_place = in_place, .obj_to_target = target_to_obj,
+                            .success = target_to_obj <= kTargetRadius,
+                            .near = tcp_to_obj <= 0.05});
 }
 
 void Window::InitTaskState(SawyerState& s) const {
