@@ -47,6 +47,15 @@ ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
   return out;
 }
 
+void ClippedEpochSums::Add(const torch::Tensor& loss, const torch::Tensor& mean_entropy,
+                           const ClippedSurrogate& surrogate) {
+  policy_loss += loss.item<double>();
+  entropy += mean_entropy.item<double>();
+  approx_kl += surrogate.approx_kl;
+  clip_fraction += surrogate.clip_fraction;
+  ++count;
+}
+
 PpoLearner::PpoLearner(const PpoConfig& config, const PolicySpaces& spaces)
     : PolicyGradientLearner(Validated(config), spaces), ppo_(config) {
   for (const nn::FlatModule* m : policy_modules()) {
@@ -59,9 +68,8 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
   const int64_t mb = std::min(ppo_.minibatch_size, b);
   const double regularizer = ppo_.entropy_method == "regularized" ? ppo_.entropy_coeff : 0.0;
   const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
-  double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0;
-  double pcgrad_conflicts = 0;
-  int64_t count = 0;
+  ClippedEpochSums sums;
+  double value_loss = 0, pcgrad_conflicts = 0;
   for (int64_t lo = 0; lo < b; lo += mb) {
     const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
     const nn::ActionDistribution d = PolicyOn(s, rows);
@@ -87,19 +95,16 @@ Metrics PpoLearner::Epoch(const PolicySamples& s) {
     for (size_t i = 0; i < modules.size(); ++i) {
       policy_optimizers_[i].Step(modules[i]->flat(), modules[i]->flat_grad());
     }
-    policy_loss += loss.item<double>();
-    entropy += ent.item<double>();
-    kl += surrogate.approx_kl;
-    clipped += surrogate.clip_fraction;
+    sums.Add(loss, ent, surrogate);
     if (uses_value_network()) value_loss += ValueStep(s, rows);
-    ++count;
   }
+  const auto count = static_cast<double>(sums.count);
   Metrics m;
-  m.Set("policy_loss", policy_loss / count);
+  m.Set("policy_loss", sums.policy_loss / count);
   if (uses_value_network()) m.Set("value_loss", value_loss / count);
-  m.Set("entropy", entropy / count);
-  m.Set("approx_kl", kl / count);
-  m.Set("clip_fraction", clipped / count);
+  m.Set("entropy", sums.entropy / count);
+  m.Set("approx_kl", sums.approx_kl / count);
+  m.Set("clip_fraction", sums.clip_fraction / count);
   if (ppo_.pcgrad) m.Set("pcgrad_conflicts", pcgrad_conflicts / count);
   return m;
 }

@@ -33,6 +33,16 @@ ClippedSurrogate ClippedSurrogateLoss(const torch::Tensor& log_probs,
                                       const torch::Tensor& old_log_probs,
                                       const torch::Tensor& advantages, double clip_range);
 
+// Sums of the clipped-surrogate minibatches of one epoch (PPO, TE-PPO, RL2);
+// the learners report their means, sum / count.
+struct ClippedEpochSums {
+  double policy_loss = 0, entropy = 0, approx_kl = 0, clip_fraction = 0;
+  int64_t count = 0;
+  // One minibatch: its loss and mean entropy (scalar tensors) and surrogate.
+  void Add(const torch::Tensor& loss, const torch::Tensor& mean_entropy,
+           const ClippedSurrogate& surrogate);
+};
+
 class PpoLearner : public PolicyGradientLearner {
  public:
   PpoLearner(const PpoConfig& config, const PolicySpaces& spaces);

@@ -168,12 +168,10 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
 
   const double regularizer = config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
   const int64_t mb = std::min(config_.minibatch_trials, envs);
-  double policy_loss = 0, entropy = 0, kl = 0, clipped = 0;
-  int64_t count = 0;
+  ClippedEpochSums sums;
   for (int64_t epoch = 0; epoch < config_.epochs; ++epoch) {
     const torch::Tensor perm = torch::randperm(envs, generator_, torch::kInt64);
-    policy_loss = entropy = kl = clipped = 0;
-    count = 0;
+    sums = {};
     for (int64_t lo = 0; lo < envs; lo += mb) {
       const torch::Tensor cols = perm.narrow(0, lo, std::min(mb, envs - lo));
       const nn::ActionDistribution d = Unroll(x.index_select(1, cols));
@@ -190,20 +188,17 @@ Metrics Rl2Learner::Update(rl::RolloutBuffer& rollout) {
       for (size_t i = 0; i < modules_.size(); ++i) {
         optimizers_[i].Step(modules_[i]->flat(), modules_[i]->flat_grad());
       }
-      policy_loss += loss.item<double>();
-      entropy += ent.item<double>();
-      kl += surrogate.approx_kl;
-      clipped += surrogate.clip_fraction;
-      ++count;
+      sums.Add(loss, ent, surrogate);
     }
   }
   for (const nn::FlatModule* m : modules_)
     RequireFinite(m->flat(), "rl2", "the policy's parameters");
   // the last epoch's means
-  metrics.Set("policy_loss", policy_loss / count);
-  metrics.Set("entropy", entropy / count);
-  metrics.Set("approx_kl", kl / count);
-  metrics.Set("clip_fraction", clipped / count);
+  const auto count = static_cast<double>(sums.count);
+  metrics.Set("policy_loss", sums.policy_loss / count);
+  metrics.Set("entropy", sums.entropy / count);
+  metrics.Set("approx_kl", sums.approx_kl / count);
+  metrics.Set("clip_fraction", sums.clip_fraction / count);
   ++num_updates_;
   return metrics;
 }

@@ -262,11 +262,11 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
   // 3. policy and encoder
   const double regularizer = config_.entropy_method == "regularized" ? config_.entropy_coeff : 0.0;
   const int64_t mb = std::min(config_.minibatch_size, b);
-  double policy_loss = 0, value_loss = 0, entropy = 0, kl = 0, clipped = 0, enc_entropy = 0;
-  int64_t count = 0;
+  ClippedEpochSums sums;
+  double value_loss = 0, enc_entropy = 0;
   for (int64_t e = 0; e < config_.epochs; ++e) {
-    policy_loss = value_loss = entropy = kl = clipped = enc_entropy = 0;
-    count = 0;
+    sums = {};
+    value_loss = enc_entropy = 0;
     const torch::Tensor perm = torch::randperm(b, generator_, torch::kInt64);
     for (int64_t lo = 0; lo < b; lo += mb) {
       const torch::Tensor rows = perm.narrow(0, lo, std::min(mb, b - lo));
@@ -290,11 +290,8 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
       ClipGradNorm(policy_->flat_grad(), config_.max_grad_norm);
       policy_optimizer_.Step(policy_->flat(), policy_->flat_grad());
       encoder_optimizer_.Step(encoder_->flat(), encoder_->flat_grad());
-      policy_loss += loss.item<double>();
-      entropy += ent.item<double>();
+      sums.Add(loss, ent, surrogate);
       enc_entropy += task_entropy.item<double>();
-      kl += surrogate.approx_kl;
-      clipped += surrogate.clip_fraction;
       if (value_) {
         const torch::Tensor v = value_->Forward(x_value.index_select(0, rows));
         const torch::Tensor vloss = (v - returns.index_select(0, rows)).square().mean();
@@ -303,17 +300,17 @@ Metrics TePpoLearner::Update(rl::RolloutBuffer& rollout) {
         value_optimizer_.Step(value_->flat(), value_->flat_grad());
         value_loss += vloss.item<double>();
       }
-      ++count;
     }
   }
   RequireFinite(policy_->flat(), "te_ppo", "the policy's parameters");
-  if (count > 0) {
-    metrics.Set("policy_loss", policy_loss / count);
+  if (sums.count > 0) {
+    const auto count = static_cast<double>(sums.count);
+    metrics.Set("policy_loss", sums.policy_loss / count);
     if (value_) metrics.Set("value_loss", value_loss / count);
-    metrics.Set("entropy", entropy / count);
+    metrics.Set("entropy", sums.entropy / count);
     metrics.Set("encoder_entropy", enc_entropy / count);
-    metrics.Set("approx_kl", kl / count);
-    metrics.Set("clip_fraction", clipped / count);
+    metrics.Set("approx_kl", sums.approx_kl / count);
+    metrics.Set("clip_fraction", sums.clip_fraction / count);
   }
 
   // 4. inference network: discounted maximum likelihood of the episode latents
