@@ -19,6 +19,20 @@ void CheckSize(std::string_view what, size_t got, int64_t want) {
   }
 }
 
+// The transition fields of a Storage or a Batch over `rows` rows, each made
+// by make(shape, dtype): float32, task_index int64.
+template <typename Rows, typename Make>
+Rows MakeRows(int64_t rows, int64_t obs_dim, int64_t action_dim, Make make) {
+  Rows r;
+  r.obs = make({rows, obs_dim}, torch::kFloat32);
+  r.action = make({rows, action_dim}, torch::kFloat32);
+  r.reward = make({rows}, torch::kFloat32);
+  r.next_obs = make({rows, obs_dim}, torch::kFloat32);
+  r.done = make({rows}, torch::kFloat32);
+  r.task_index = make({rows}, torch::kInt64);
+  return r;
+}
+
 }  // namespace
 
 ReplaySampling ParseReplaySampling(std::string_view name) {
@@ -33,15 +47,10 @@ const char* ReplaySamplingName(ReplaySampling sampling) {
 }
 
 ReplayBuffer::Storage ReplayBuffer::Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim) {
-  Storage s;
-  const auto f32 = torch::TensorOptions().dtype(torch::kFloat32);
-  s.obs = torch::zeros({rows, obs_dim}, f32);
-  s.action = torch::zeros({rows, action_dim}, f32);
-  s.reward = torch::zeros({rows}, f32);
-  s.next_obs = torch::zeros({rows, obs_dim}, f32);
-  s.done = torch::zeros({rows}, f32);
-  s.task_index = torch::zeros({rows}, torch::kInt64);
-  return s;
+  return MakeRows<Storage>(rows, obs_dim, action_dim,
+                           [](at::IntArrayRef shape, torch::ScalarType dtype) {
+                             return torch::zeros(shape, dtype);
+                           });
 }
 
 ReplayBuffer::ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim,
@@ -144,13 +153,10 @@ void ReplayBuffer::ClearTask(int64_t task) {
 
 void ReplayBuffer::ResizeBatch(int64_t batch_size) {
   if (batch_.size() == batch_size) return;
-  const auto f32 = torch::TensorOptions().dtype(torch::kFloat32);
-  batch_.obs = torch::empty({batch_size, obs_dim_}, f32);
-  batch_.action = torch::empty({batch_size, action_dim_}, f32);
-  batch_.reward = torch::empty({batch_size}, f32);
-  batch_.next_obs = torch::empty({batch_size, obs_dim_}, f32);
-  batch_.done = torch::empty({batch_size}, f32);
-  batch_.task_index = torch::empty({batch_size}, torch::kInt64);
+  batch_ = MakeRows<Batch>(batch_size, obs_dim_, action_dim_,
+                           [](at::IntArrayRef shape, torch::ScalarType dtype) {
+                             return torch::empty(shape, dtype);
+                           });
   rows_ = torch::empty({batch_size}, torch::kInt64);
 }
 
