@@ -67,6 +67,19 @@ void PlaceFixture(mjModel* m, int body, const Vec3& pos) {
   for (int i = 0; i < 3; ++i) m->body_pos[3 * body + i] = pos[i];
 }
 
+ShoulderReach ReachWithShoulder(const SawyerState& s, const Vec3& obj_at_reset,
+                                const Vec3& scale) {
+  constexpr Vec3 kShoulder{0.0, 0.055, 0.07};
+  const Vec3 shoulder{s.hand[0] + kShoulder[0], s.hand[1] + kShoulder[1], s.hand[2] + kShoulder[2]};
+  const Vec3 shoulder_init{s.tcp_init[0] + kShoulder[0], s.tcp_init[1] + kShoulder[1],
+                           s.tcp_init[2] + kShoulder[2]};
+  ShoulderReach reach;
+  reach.distance = WeightedDistance(shoulder, s.obj, scale);
+  reach.ready = LongTailTolerance(reach.distance, 0.0, 0.02,
+                                  WeightedDistance(shoulder_init, obj_at_reset, scale));
+  return reach;
+}
+
 bool OpenAndLifted(const SawyerState& s) {
   return s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2];
 }

@@ -50,6 +50,18 @@ double GraspSuccess(const SawyerState& state);
 // |diag(weights) (a - b)|: weighting an axis makes it count more.
 double WeightedDistance(const Vec3& a, const Vec3& b, const Vec3& weights);
 
+// v3's reach for pushing a lever or lock up from below: the hand's
+// "shoulder", 5.5 cm behind and 7 cm above the hand, to the object point,
+// weighted by `scale` (distance); ready = its long-tail tolerance within
+// 2 cm, margin the same distance at reset, from the tcp's start to
+// `obj_at_reset`.
+struct ShoulderReach {
+  double distance = 0;
+  double ready = 0;
+};
+ShoulderReach ReachWithShoulder(const SawyerState& state, const Vec3& obj_at_reset,
+                                const Vec3& scale);
+
 // Meta-World v3's funnel-shaped floor around a point (pick-out-of-hole,
 // bin-picking, box-close): the height the hand should keep at horizontal
 // distance `radius` from it, 0 within `threshold`, else

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "manyworlds/manipulation/grasp_policy.h"
+#include "manyworlds/manipulation/object_tasks.h"
 
 namespace manyworlds::manipulation::wall {
 
@@ -13,6 +14,12 @@ SawyerTaskConfig WallConfig(std::string id, std::string description, std::string
   return TaskConfig(std::move(id), std::move(description), std::move(xml_file),
                     {{-0.05, 0.6, 0.02}, {0.05, 0.65, 0.02}},
                     {{-0.05, 0.85, goal_z_low}, {0.05, 0.9, goal_z_high}});
+}
+
+double TowardMidpoint(const SawyerState& s, const Vec3& midpoint, const Vec3& weights,
+                      double radius) {
+  return LongTailTolerance(WeightedDistance(s.obj, midpoint, weights), 0.0, radius,
+                           WeightedDistance(s.obj_init, midpoint, weights));
 }
 
 void CarryOverWall(const SawyerObs& o, const Vec3& goal, std::span<float> action) {

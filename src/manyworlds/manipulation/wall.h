@@ -24,6 +24,13 @@ inline constexpr double kOverWall = 0.17;
 SawyerTaskConfig WallConfig(std::string id, std::string description, std::string xml_file,
                             double goal_z_low, double goal_z_high);
 
+// The long-tail tolerance of the object's weighted distance to `midpoint`
+// (a point past the wall's end or over it) within `radius`, margin the same
+// distance at reset: the first leg of push-wall's and pick-place-wall's
+// rewards.
+double TowardMidpoint(const SawyerState& state, const Vec3& midpoint, const Vec3& weights,
+                      double radius);
+
 // Grasp the puck, lift it over the wall, then carry it to `goal` (the
 // puck's centre at the end).
 void CarryOverWall(const SawyerObs& obs, const Vec3& goal, std::span<float> action);

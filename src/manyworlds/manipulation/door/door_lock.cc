@@ -104,18 +104,13 @@ DoorUnlock::DoorUnlock(SawyerOptions options)
                    options) {}
 
 RewardTerms DoorUnlock::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  constexpr Vec3 kShoulder{0.0, 0.055, 0.07};
-  const Vec3 shoulder{s.hand[0] + kShoulder[0], s.hand[1] + kShoulder[1], s.hand[2] + kShoulder[2]};
-  const Vec3 shoulder_init{s.tcp_init[0] + kShoulder[0], s.tcp_init[1] + kShoulder[1],
-                           s.tcp_init[2] + kShoulder[2]};
-  const double shoulder_to_lock = WeightedDistance(shoulder, s.obj, kScale);
-  const double ready = LongTailTolerance(shoulder_to_lock, 0.0, 0.02,
-                                         WeightedDistance(shoulder_init, s.obj_init, kScale));
+  const ShoulderReach reach = ReachWithShoulder(s, s.obj_init, kScale);
   const double obj_to_target = std::abs(s.goal[0] - s.obj[0]);
   const double pushed = LongTailTolerance(obj_to_target, 0.0, 0.005, kLockLength);
-  return PressRewardTerms(s, {.reward = 2.0 * ready + 8.0 * pushed, .obj_to_target = obj_to_target,
-                              .success_radius = kSuccess, .tcp_to_obj = shoulder_to_lock,
-                              .near = ready, .pressed = pushed});
+  return PressRewardTerms(s, {.reward = 2.0 * reach.ready + 8.0 * pushed,
+                              .obj_to_target = obj_to_target, .success_radius = kSuccess,
+                              .tcp_to_obj = reach.distance, .near = reach.ready,
+                              .pressed = pushed});
 }
 
 void DoorLockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,

@@ -19,13 +19,11 @@ PickPlaceWall::PickPlaceWall(SawyerOptions options) : SawyerTask(Config(), optio
 
 RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   constexpr double kRadius = 0.05;
-  const Vec3 midpoint{s.goal[0], 0.77, 0.25};
-  const Vec3 z_thrice{1.0, 1.0, 3.0};
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   const double obj_to_target = Distance(s.obj, s.goal);
+  // over the wall, z counting thrice
   const double to_midpoint =
-      LongTailTolerance(WeightedDistance(s.obj, midpoint, z_thrice), 0.0, kRadius,
-                        WeightedDistance(s.obj_init, midpoint, z_thrice));
+      wall::TowardMidpoint(s, {s.goal[0], 0.77, 0.25}, {1.0, 1.0, 3.0}, kRadius);
   const double to_goal =
       LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
   const CagingParams caging{};  // v3's defaults, not high-density

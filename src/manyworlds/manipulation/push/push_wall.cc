@@ -21,13 +21,11 @@ PushWall::PushWall(SawyerOptions options) : SawyerTask(Config(), options) {}
 
 RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   constexpr double kRadius = 0.05;
-  const Vec3 midpoint{-0.05, 0.77, s.obj[2]};
-  const Vec3 x_thrice{3.0, 1.0, 1.0};
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   const double obj_to_target = Distance(s.obj, s.goal);
+  // past the wall's end, x counting thrice
   const double to_midpoint =
-      LongTailTolerance(WeightedDistance(s.obj, midpoint, x_thrice), 0.0, kRadius,
-                        WeightedDistance(s.obj_init, midpoint, x_thrice));
+      wall::TowardMidpoint(s, {-0.05, 0.77, s.obj[2]}, {3.0, 1.0, 1.0}, kRadius);
   const double to_goal =
       LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
   const CagingParams caging{.high_density = true};

@@ -40,16 +40,11 @@ SawyerTaskConfig LeverPull::Config() {
 LeverPull::LeverPull(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
 
 RewardTerms LeverPull::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  // The hand's "shoulder" under the lever: a point 5.5 cm behind and 7 cm
-  // above the hand, compared with the grip, y counting less.
-  constexpr Vec3 kShoulder{0.0, 0.055, 0.07};
-  constexpr Vec3 kScale{4.0, 1.0, 4.0};
-  const Vec3 shoulder{s.hand[0] + kShoulder[0], s.hand[1] + kShoulder[1], s.hand[2] + kShoulder[2]};
-  const Vec3 shoulder_init{s.tcp_init[0] + kShoulder[0], s.tcp_init[1] + kShoulder[1],
-                           s.tcp_init[2] + kShoulder[2]};
-  const double shoulder_to_lever = WeightedDistance(shoulder, s.obj, kScale);
-  const double ready = LongTailTolerance(shoulder_to_lever, 0.0, 0.02,
-                                         WeightedDistance(shoulder_init, s.handle_init, kScale));
+  // The hand's "shoulder" under the lever, compared with the grip, y
+  // counting less.
+  const ShoulderReach reach = ReachWithShoulder(s, s.handle_init, {4.0, 1.0, 4.0});
+  const double shoulder_to_lever = reach.distance;
+  const double ready = reach.ready;
   const double angle_error = std::abs(-s.joint_qpos - kUp);
   const double engagement = LongTailTolerance(angle_error, 0.0, std::numbers::pi / 48.0,
                                               kUp - std::numbers::pi / 12.0);
