@@ -83,8 +83,6 @@ function(manyworlds_tests)
         string(REPLACE "," ";" labels "${CMAKE_MATCH_1}")
       endif()
     endforeach()
-    # a list inside PROPERTIES must keep its separators
-    string(REPLACE ";" "\\;" labels "${labels}")
     add_executable(${target} ${file})
     target_link_libraries(${target} PRIVATE ${ARG_LIBS} GTest::gtest GTest::gtest_main)
     # Test helpers are included as "tests/<area>/<file>.h".
@@ -97,7 +95,15 @@ function(manyworlds_tests)
     # Tests that need more threads set them (nn::SetThreads).
     gtest_discover_tests(${target} DISCOVERY_TIMEOUT 60
       PROPERTIES ENVIRONMENT "MANYWORLDS_SOURCE_DIR=${PROJECT_SOURCE_DIR}"
-                 ENVIRONMENT_MODIFICATION "OPENBLAS_NUM_THREADS=set:1"
-                 LABELS "${labels}")
+                 ENVIRONMENT_MODIFICATION "OPENBLAS_NUM_THREADS=set:1")
+    # The labels are set by a script ctest reads after the discovered tests
+    # (their names are known only then): gtest_discover_tests' PROPERTIES
+    # cannot carry a list, so a second label would be lost there.
+    set(label_script ${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake)
+    file(WRITE ${label_script}
+         "if(${target}_TESTS)\n"
+         "  set_tests_properties(\${${target}_TESTS} PROPERTIES LABELS \"${labels}\")\n"
+         "endif()\n")
+    set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${label_script})
   endforeach()
 endfunction()
