@@ -80,6 +80,10 @@ ShoulderReach ReachWithShoulder(const SawyerState& s, const Vec3& obj_at_reset,
   return reach;
 }
 
+double TowardGoal(const SawyerState& s, double obj_to_target, double radius) {
+  return LongTailTolerance(obj_to_target, 0.0, radius, Distance(s.obj_init, s.goal));
+}
+
 bool OpenAndLifted(const SawyerState& s) {
   return s.gripper_opening > 0 && s.obj[2] - 0.03 > s.obj_init[2];
 }

@@ -77,6 +77,11 @@ Vec3 SitePosition(const mjData* d, int site);
 // Every env owns its model, so this changes only this env's scene.
 void PlaceFixture(mjModel* m, int body, const Vec3& pos);
 
+// The object's progress toward the goal most free-object rewards read: the
+// long-tail tolerance of obj_to_target within `radius`, margin the object's
+// distance to the goal at reset.
+double TowardGoal(const SawyerState& state, double obj_to_target, double radius);
+
 // The end of Meta-World v3's reward for bringing a free object to a target,
 // which push, push-back, push-wall, pick-place, pick-place-wall,
 // shelf-place, hand-insert and soccer share (ObjectRewardTerms).

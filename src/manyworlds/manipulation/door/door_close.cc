@@ -16,23 +16,15 @@ constexpr double kStartAngle = -1.5708;  // hinge position at reset (open), as v
 // it.
 constexpr double kShut = 0.0;
 
-FixtureSpec Fixture() {
-  FixtureSpec fixture{"door_frame", door::kFrameOffset, "door_hinge", kStartAngle, kGoalOffset};
-  fixture.joint_qpos_sign = 1.0;  // v3's doorjoint has our sign
-  return fixture;
-}
-
 }  // namespace
 
 SawyerTaskConfig DoorClose::Config() {
-  SawyerTaskConfig config = TaskConfig("door-close", "Sawyer arm: swing an open door shut",
-                                       "door_close.xml", {{0.0, 0.85, 0.15}, {0.1, 0.95, 0.15}});
-  config.hand_init = {-0.5, 0.6, 0.2};
-  UseGoalOffset(kGoalOffset, config);
-  return config;
+  return door::DoorConfig("door-close", "Sawyer arm: swing an open door shut", "door_close.xml",
+                          {-0.5, 0.6, 0.2}, kGoalOffset);
 }
 
-DoorClose::DoorClose(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
+DoorClose::DoorClose(SawyerOptions options)
+    : ArticulatedTask(Config(), door::HingedDoor(kStartAngle, kGoalOffset), options) {}
 
 RewardTerms DoorClose::ComputeReward(const SawyerState& s, std::span<const float>) const {
   constexpr double kTargetRadius = 0.05;

@@ -15,7 +15,9 @@
 
 #include <cmath>
 
+#include "manyworlds/manipulation/articulated.h"
 #include "manyworlds/manipulation/reward_utils.h"
+#include "manyworlds/manipulation/sawyer_task.h"
 
 namespace manyworlds::manipulation::door {
 
@@ -44,6 +46,24 @@ inline double HingeAngle(const Vec3& handle, const Vec3& obj) {
 // The scripted policies push the panel with the closed gripper (PushPanel in
 // articulated.h): mid-height (the tcp 0.15 m up, as the handle) and clear of
 // the handle; over its top (0.29 m) with the tcp 0.34 m up.
+// door-open's and door-close's door: the hinge at `start_angle` at reset,
+// the goal at obj_pos + goal_offset, joint_qpos in v3's sign (its
+// doorjoint has ours).
+inline FixtureSpec HingedDoor(double start_angle, const Vec3& goal_offset) {
+  FixtureSpec fixture{"door_frame", kFrameOffset, "door_hinge", start_angle, goal_offset};
+  fixture.joint_qpos_sign = 1.0;
+  return fixture;
+}
+// Their config: v3's door range, the goal from `goal_offset`.
+inline SawyerTaskConfig DoorConfig(const char* id, const char* description, const char* xml_file,
+                                   const Vec3& hand_init, const Vec3& goal_offset) {
+  SawyerTaskConfig config =
+      TaskConfig(id, description, xml_file, {{0.0, 0.85, 0.15}, {0.1, 0.95, 0.15}});
+  config.hand_init = hand_init;
+  UseGoalOffset(goal_offset, config);
+  return config;
+}
+
 inline constexpr double kPushHeight = 0.15;
 inline constexpr double kClearHeight = 0.34;
 

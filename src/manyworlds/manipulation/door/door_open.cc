@@ -17,23 +17,15 @@ constexpr double kSuccessX = 0.08;
 // travel), short of the hinge's limit.
 constexpr double kTurnTo = door::kMaxOpen - 0.2;
 
-FixtureSpec Fixture() {
-  FixtureSpec fixture{"door_frame", door::kFrameOffset, "door_hinge", 0.0, kGoalOffset};
-  fixture.joint_qpos_sign = 1.0;  // v3's doorjoint has our sign
-  return fixture;
-}
-
 }  // namespace
 
 SawyerTaskConfig DoorOpen::Config() {
-  SawyerTaskConfig config = TaskConfig("door-open", "Sawyer arm: swing a door open by its handle",
-                                       "door_open.xml", {{0.0, 0.85, 0.15}, {0.1, 0.95, 0.15}});
-  config.hand_init = {0.0, 0.6, 0.2};
-  UseGoalOffset(kGoalOffset, config);
-  return config;
+  return door::DoorConfig("door-open", "Sawyer arm: swing a door open by its handle",
+                          "door_open.xml", {0.0, 0.6, 0.2}, kGoalOffset);
 }
 
-DoorOpen::DoorOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(), options) {}
+DoorOpen::DoorOpen(SawyerOptions options)
+    : ArticulatedTask(Config(), door::HingedDoor(0.0, kGoalOffset), options) {}
 
 RewardTerms DoorOpen::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const Vec3& hand = s.hand;

@@ -32,8 +32,7 @@ RewardTerms PickOutOfHole::ComputeReward(const SawyerState& s,
                             .desired_gripper_effort = 0.1,
                             .high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, 0.02, Distance(s.obj_init, s.goal));
+  const double in_place = TowardGoal(s, obj_to_target, 0.02);
 
   const bool held = tcp_to_obj < 0.04 && s.gripper_opening >= 0.33 &&
                     s.obj[2] - 0.02 > s.obj_init[2];

@@ -61,8 +61,7 @@ RewardTerms PegUnplugSide::ComputeReward(const SawyerState& s, std::span<const f
   const CagingParams caging{
       .obj_radius = 0.025, .desired_gripper_effort = 0.8, .high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, kRewardRadius, Distance(s.obj_init, s.goal));
+  const double in_place = TowardGoal(s, obj_to_target, kRewardRadius);
   const bool pulling = s.gripper_opening > 0.5 && s.obj[0] - s.obj_init[0] > 0.015;
 
   double reward = 2.0 * grasped;

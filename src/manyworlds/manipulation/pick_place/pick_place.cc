@@ -32,8 +32,7 @@ double PickPlaceCaging(const SawyerState& s, double gripper_action) {
 RewardTerms PickPlace::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, 0.05, Distance(s.obj_init, s.goal));
+  const double in_place = TowardGoal(s, obj_to_target, 0.05);
   const double grasped = PickPlaceCaging(s, action[3]);
 
   double reward = HamacherProduct(grasped, in_place);

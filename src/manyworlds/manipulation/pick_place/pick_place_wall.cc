@@ -24,8 +24,7 @@ RewardTerms PickPlaceWall::ComputeReward(const SawyerState& s, std::span<const f
   // over the wall, z counting thrice
   const double to_midpoint =
       wall::TowardMidpoint(s, {s.goal[0], 0.77, 0.25}, {1.0, 1.0, 3.0}, kRadius);
-  const double to_goal =
-      LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
+  const double to_goal = TowardGoal(s, obj_to_target, kRadius);
   const CagingParams caging{};  // v3's defaults, not high-density
   const double grasped = CageObject(s, s.obj, action[3], caging);
   const double grasped_to_midpoint = HamacherProduct(grasped, to_midpoint);

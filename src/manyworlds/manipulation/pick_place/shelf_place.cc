@@ -33,8 +33,7 @@ RewardTerms ShelfPlace::ComputeReward(const SawyerState& s, std::span<const floa
   // Meta-World v3's shelf-place reward.
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-  double in_place =
-      LongTailTolerance(obj_to_target, 0.0, kRewardRadius, Distance(s.obj_init, s.goal));
+  double in_place = TowardGoal(s, obj_to_target, kRewardRadius);
   // the shared caging term, not high-density
   const CagingParams caging{.obj_radius = 0.02, .xz_thresh = 0.01};
   const double grasped = CageObject(s, s.obj, action[3], caging);

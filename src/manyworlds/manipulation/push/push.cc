@@ -27,8 +27,7 @@ Push::Push(SawyerOptions options) : SawyerTask(Config(), options) {}
 RewardTerms Push::ComputeReward(const SawyerState& s, std::span<const float> action) const {
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
-  const double in_place =
-      LongTailTolerance(obj_to_target, 0.0, kTargetRadius, Distance(s.obj_init, s.goal));
+  const double in_place = TowardGoal(s, obj_to_target, kTargetRadius);
   const CagingParams caging{.high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 

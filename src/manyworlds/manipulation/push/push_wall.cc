@@ -26,8 +26,7 @@ RewardTerms PushWall::ComputeReward(const SawyerState& s, std::span<const float>
   // past the wall's end, x counting thrice
   const double to_midpoint =
       wall::TowardMidpoint(s, {-0.05, 0.77, s.obj[2]}, {3.0, 1.0, 1.0}, kRadius);
-  const double to_goal =
-      LongTailTolerance(obj_to_target, 0.0, kRadius, Distance(s.obj_init, s.goal));
+  const double to_goal = TowardGoal(s, obj_to_target, kRadius);
   const CagingParams caging{.high_density = true};
   const double grasped = CageObject(s, s.obj, action[3], caging);
 
