@@ -172,6 +172,36 @@ TEST(PpoTest, UpdateMovesThePolicyWithinTheClipAndCheckpointsRoundTrip) {
   EXPECT_THROW(trpo.Load(again), Error);
 }
 
+// An algorithm whose name starts with TRPO's letter: checkpoints carry the
+// whole name, so neither takes the other's (they once carried the first
+// letter only, and a TRPO checkpoint loaded into it without a word).
+class TrpoVariant : public agents::TrpoLearner {
+ public:
+  using TrpoLearner::TrpoLearner;
+
+ protected:
+  const char* algo_name() const override { return "trpo_variant"; }
+};
+
+TEST(PolicyGradientCheckpointTest, AlgorithmsSharingAFirstLetterRefuseEachOthersCheckpoints) {
+  agents::TrpoLearner trpo(agents::TrpoConfig{}, Spaces(3, 2, 0, 2));
+  torch::serialize::OutputArchive out;
+  trpo.Save(out);
+  std::ostringstream bytes;
+  out.save_to(bytes);
+  TrpoVariant variant(agents::TrpoConfig{}, Spaces(3, 2, 0, 2));
+  torch::serialize::InputArchive in;
+  std::istringstream read(bytes.str());
+  in.load_from(read);
+  EXPECT_THROW(variant.Load(in), Error);
+  // and TRPO still reads its own
+  agents::TrpoLearner again(agents::TrpoConfig{}, Spaces(3, 2, 0, 2));
+  torch::serialize::InputArchive in_again;
+  std::istringstream read_again(bytes.str());
+  in_again.load_from(read_again);
+  EXPECT_NO_THROW(again.Load(in_again));
+}
+
 TEST(TrpoTest, AcceptedStepsStayInsideTheTrustRegion) {
   for (int64_t n_actions : {0, 3}) {
     agents::TrpoConfig config;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
@@ -11,6 +12,15 @@
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::agents {
+namespace {
+
+// An algorithm's registry name as int64 character codes (checkpoint tag).
+torch::Tensor NameTensor(const std::string& name) {
+  std::vector<int64_t> codes(name.begin(), name.end());
+  return torch::tensor(codes, torch::kInt64);
+}
+
+}  // namespace
 double ExplainedVariance(const torch::Tensor& prediction, const torch::Tensor& target) {
   const double var = target.var(/*unbiased=*/false).item<double>();
   if (!(var > 0)) return 0.0;
@@ -213,7 +223,10 @@ void PolicyGradientLearner::TransferNetworks(Archive& archive, Self& self) {
 }
 
 void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const {
+  // "algo" (the name's first letter) is what checkpoints before the whole
+  // name carried; trpo and te_ppo share it, hence "algo_name".
   archive.write("algo", torch::tensor(static_cast<int64_t>(algo_name()[0]), torch::kInt64));
+  archive.write("algo_name", NameTensor(algo_name()));
   archive.write("input_dim", torch::tensor(input_dim_, torch::kInt64));
   TransferNetworks(archive, *this);
   SaveExtra(archive);
@@ -222,8 +235,12 @@ void PolicyGradientLearner::Save(torch::serialize::OutputArchive& archive) const
 
 void PolicyGradientLearner::Load(torch::serialize::InputArchive& archive) {
   torch::Tensor algo, input_dim;
-  if (!archive.try_read("algo", algo) || !archive.try_read("input_dim", input_dim) ||
-      algo.item<int64_t>() != static_cast<int64_t>(algo_name()[0]) ||
+  torch::Tensor name;
+  const bool same_name = archive.try_read("algo_name", name)
+                             ? torch::equal(name, NameTensor(algo_name()))
+                             : archive.try_read("algo", algo) && algo.numel() == 1 &&
+                                   algo.item<int64_t>() == static_cast<int64_t>(algo_name()[0]);
+  if (!same_name || !archive.try_read("input_dim", input_dim) || input_dim.numel() != 1 ||
       input_dim.item<int64_t>() != input_dim_) {
     throw Error(std::string(algo_name()) +
                 " checkpoint: not a checkpoint of this algorithm and network input");
