@@ -39,8 +39,7 @@ RewardTerms HandInsert::ComputeReward(const SawyerState& s, std::span<const floa
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.obj, s.tcp);
   const double in_place = TowardGoal(s, obj_to_target, kTargetRadius);
-  const CagingParams caging{.high_density = true};
-  const double grasped = CageObject(s, s.obj, action[3], caging);
+  const double grasped = CageObject(s, s.obj, action[3], {.high_density = true});
 
   double reward = HamacherProduct(grasped, in_place);
   if (tcp_to_obj < 0.02 && s.gripper_opening > 0) reward += 1.0 + 7.0 * in_place;

@@ -28,8 +28,7 @@ RewardTerms Push::ComputeReward(const SawyerState& s, std::span<const float> act
   const double obj_to_target = Distance(s.obj, s.goal);
   const double tcp_to_obj = Distance(s.tcp, s.obj);
   const double in_place = TowardGoal(s, obj_to_target, kTargetRadius);
-  const CagingParams caging{.high_density = true};
-  const double grasped = CageObject(s, s.obj, action[3], caging);
+  const double grasped = CageObject(s, s.obj, action[3], {.high_density = true});
 
   double reward = 2.0 * grasped;
   if (tcp_to_obj < 0.02 && s.gripper_opening > 0) reward = 2.0 * reward + 1.0 + 5.0 * in_place;
