@@ -3,6 +3,7 @@
 #include <zlib.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdint>
 #include <fstream>
 #include <limits>
@@ -10,7 +11,6 @@
 #include <vector>
 
 #include "manyworlds/core/error.h"
-#include "manyworlds/experiments/run/run_dir.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -233,8 +233,29 @@ void CheckRunFiles(const fs::path& checkpoint_dir, const fs::path& run_dir) {
   }
 }
 
+std::string CheckpointName(int64_t step) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "%s%012lld", kCheckpointPrefix, static_cast<long long>(step));
+  return name;
+}
+
+std::vector<fs::path> ListCheckpoints(const fs::path& run_dir) {
+  const fs::path dir = run_dir / kCheckpointsDir;
+  std::vector<fs::path> found;
+  if (!fs::is_directory(dir)) return found;
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_directory() && name.rfind(kCheckpointPrefix, 0) == 0) {
+      found.push_back(entry.path());
+    }
+  }
+  // zero-padded steps: the names sort by step
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
 ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
-  const fs::path dir = run_dir / "checkpoints";
+  const fs::path dir = run_dir / kCheckpointsDir;
   if (fs::exists(dir) && !fs::is_directory(dir)) {
     throw ConfigError("'" + dir.string() + "' is not a directory, so run '" + run_dir.string() +
                       "' has no checkpoint");

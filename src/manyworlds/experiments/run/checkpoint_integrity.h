@@ -7,6 +7,7 @@
 #ifndef MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_INTEGRITY_H_
 #define MANYWORLDS_EXPERIMENTS_RUN_CHECKPOINT_INTEGRITY_H_
 
+#include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -29,6 +30,18 @@ std::optional<std::string> CheckpointProblem(const std::filesystem::path& checkp
 // the run was edited or damaged, so no checkpoint of it can be trusted.
 void CheckRunFiles(const std::filesystem::path& checkpoint_dir,
                    const std::filesystem::path& run_dir);
+
+// A run's checkpoints are directories kCheckpointPrefix + the zero-padded
+// step inside RUN_DIR/kCheckpointsDir.
+inline constexpr char kCheckpointsDir[] = "checkpoints";
+inline constexpr char kCheckpointPrefix[] = "step_";
+
+// "step_000000012345".
+std::string CheckpointName(int64_t step);
+
+// The checkpoint directories (step_*) of a run, oldest first; none if the
+// run has no checkpoints/ directory.
+std::vector<std::filesystem::path> ListCheckpoints(const std::filesystem::path& run_dir);
 
 struct ChosenCheckpoint {
   std::filesystem::path dir;

@@ -22,7 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr char kLatestFile[] = "latest";
-constexpr char kCheckpointPrefix[] = "step_";
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -112,27 +111,6 @@ void RemoveStaleTemporaries(const fs::path& run_dir) {
     }
     for (const fs::path& p : stale) fs::remove_all(p, ec);
   }
-}
-
-std::string CheckpointName(int64_t step) {
-  char name[32];
-  std::snprintf(name, sizeof(name), "%s%012lld", kCheckpointPrefix, static_cast<long long>(step));
-  return name;
-}
-
-std::vector<fs::path> ListCheckpoints(const fs::path& run_dir) {
-  const fs::path dir = RunPaths{run_dir}.checkpoints();
-  std::vector<fs::path> found;
-  if (!fs::is_directory(dir)) return found;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    const std::string name = entry.path().filename().string();
-    if (entry.is_directory() && name.rfind(kCheckpointPrefix, 0) == 0) {
-      found.push_back(entry.path());
-    }
-  }
-  // zero-padded steps: the names sort by step
-  std::sort(found.begin(), found.end());
-  return found;
 }
 
 fs::path WriteCheckpoint(const fs::path& run_dir, int64_t step, int64_t keep, nlohmann::json state,

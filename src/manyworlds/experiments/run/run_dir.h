@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/experiments/run/checkpoint_integrity.h"
 #include "manyworlds/experiments/run/run_lock.h"
 #include "manyworlds/experiments/task_set.h"
 #include "manyworlds/experiments/train_config.h"
@@ -40,7 +41,7 @@ struct RunPaths {
   std::filesystem::path tasks() const { return dir / "tasks.json"; }
   // The held-out tasks of the meta-test (runs with an eval_env only).
   std::filesystem::path eval_tasks() const { return dir / "eval_tasks.json"; }
-  std::filesystem::path checkpoints() const { return dir / "checkpoints"; }
+  std::filesystem::path checkpoints() const { return dir / kCheckpointsDir; }
   std::filesystem::path summary() const { return dir / "summary.json"; }
 };
 
@@ -71,12 +72,8 @@ std::unique_ptr<RunLock> CreateRunDirectory(const std::filesystem::path& run_dir
 // `.tmp_step_*` checkpoints. Only under the run's lock: no writer is alive.
 void RemoveStaleTemporaries(const std::filesystem::path& run_dir);
 
-// "step_000000012345".
-std::string CheckpointName(int64_t step);
-
-// The checkpoint directories (step_*) of a run, oldest first; none if the
-// run has no checkpoints/ directory.
-std::vector<std::filesystem::path> ListCheckpoints(const std::filesystem::path& run_dir);
+// CheckpointName and ListCheckpoints: checkpoint_integrity.h (it needs no
+// more than the file system, so the fuzzer builds it alone).
 
 // Writes a checkpoint of `step`: `write_files(dir, state)` writes the
 // algorithm's files into a temporary directory and adds its counters to
