@@ -1,7 +1,7 @@
 // manyworlds bench collect CONFIG [key=value ...]: a training config's
 // collection throughput (policy forward, action mapping, episode
 // bookkeeping, buffer writes, env steps) against the raw executor on the
-// same envs and threads, interleaved (experiments/collection_bench.h).
+// same envs and threads, interleaved (experiments/loops/collection_bench.h).
 #include <iostream>
 #include <memory>
 #include <string>

@@ -2,7 +2,7 @@
 //                           [--hide-target] [--distribution narrow|broad] [--seed N]
 //                           [--layout paper|anywhere]
 //
-// The CS330 box-world study (experiments/boxworld_study.h): trains and evaluates every
+// The CS330 box-world study (experiments/studies/boxworld_study.h): trains and evaluates every
 // method, then prints the table (ours beside the paper's) and writes it as table.json,
 // table.csv and table.md into the output directory. stderr gets a progress line.
 #include <unistd.h>

@@ -1,4 +1,4 @@
-// The box-world study (experiments/boxworld_study.h) on a tiny budget: one
+// The box-world study (experiments/studies/boxworld_study.h) on a tiny budget: one
 // row per method with finite numbers and the paper's column, resume without
 // rerunning finished methods, and one-line errors for bad options.
 #include "manyworlds/experiments/studies/boxworld_study.h"

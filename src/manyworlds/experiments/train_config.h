@@ -25,7 +25,7 @@
 //                          # e.g. {options: {split: test}} for ML1/ML10's test
 //                          # split; when set, every evaluation also runs the
 //                          # meta-test protocol on them (meta_test.jsonl)
-//   meta_test:             # the meta-test protocol (experiments/meta_test_protocol.h)
+//   meta_test:             # the meta-test protocol (experiments/evaluation/meta_test_protocol.h)
 //     exploration_episodes: 10  # per trial, sampled, before Actor::Adapt
 //     evaluation_episodes: 3    # per trial, after adaptation
 //     trials_per_task: 10       # variations tried per held-out task

@@ -9,7 +9,7 @@
 // mean and log-std regularisers 1e-3, discount 0.99, tau 0.005.
 //
 // Collection is counted in episodes per env instead of steps per task (the
-// loop steps every env in lockstep, experiments/pearl_loop.cc): oyster's
+// loop steps every env in lockstep, experiments/loops/pearl_loop.cc): oyster's
 // 400 prior and 400 extra-posterior steps of 200-step episodes are 2 and 2.
 #ifndef MANYWORLDS_AGENTS_PEARL_PEARL_CONFIG_H_
 #define MANYWORLDS_AGENTS_PEARL_PEARL_CONFIG_H_
