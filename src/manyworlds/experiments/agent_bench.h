@@ -52,8 +52,13 @@ AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes&
 AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 
+// ConfigError (CheckMemoryEstimate) if an update on `rows` rows at these
+// sizes cannot fit in memory; called before a learner is built.
+void CheckBenchMemory(const AgentBenchSizes& sizes, double rows);
+
 // Any on-policy learner's whole Update on a random one-step rollout of
-// --batch envs (samples per second), for `learner` built by the caller.
+// --batch envs (samples per second), for `learner` built by the caller
+// (after CheckBenchMemory).
 AgentBenchResult TimeOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& sizes,
                                      agents::OnPolicyLearner& learner, const std::string& unit);
 agents::PolicySpaces BenchSpaces(const AgentBenchSizes& sizes);
@@ -64,6 +69,7 @@ agents::PolicySpaces BenchSpaces(const AgentBenchSizes& sizes);
 // &BenchOnPolicyUpdates<MyLearner, MyConfig>.
 template <class Learner, class Config>
 AgentBenchResult BenchOnPolicyUpdates(const std::string& algo, const AgentBenchSizes& sizes) {
+  CheckBenchMemory(sizes, sizes.batch);
   Config c;
   c.seed = sizes.seed;
   if constexpr (requires { c.hidden_dim; }) c.hidden_dim = sizes.hidden;
