@@ -12,6 +12,7 @@
 #include <torch/torch.h>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/rl/rollout_buffer.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -160,6 +161,59 @@ TEST(MamlTest, AdaptFromObservedStepsGivesEachEnvItsOwnPolicy) {
   EXPECT_TRUE(state.lists["adapted"].empty());
   const torch::Tensor b = maml.Act(same, tasks, state, ActMode::kDeterministic).action;
   EXPECT_TRUE(torch::allclose(b[0], b[1]));
+}
+
+// Collects one iteration (K = 1: a pre- and a post-adaptation episode of
+// `len` steps per env) into `rollout`, adapting between them as the training
+// loop does; returns the Update's metrics.
+Metrics TrainOneIteration(MamlLearner& maml, rl::RolloutBuffer& rollout, int64_t len,
+                          bool learning, bool change_the_data) {
+  const int64_t n = rollout.envs();
+  ActorState state;
+  state.learning = learning;
+  const torch::Tensor tasks = torch::zeros({n}, torch::kInt64);
+  torch::manual_seed(5);
+  for (int64_t t = 0; t < 2 * len; ++t) {
+    const torch::Tensor o = torch::randn({n, 2});
+    const ActOutput out = maml.Act(o, tasks, state, ActMode::kSample);
+    const torch::Tensor r = torch::randn({n});
+    const torch::Tensor end = torch::full({n}, (t + 1) % len == 0 ? 1.0f : 0.0f);
+    rollout.obs[t].copy_(o);
+    rollout.actions[t].copy_(out.action);
+    rollout.log_probs[t].copy_(out.log_prob);
+    rollout.rewards[t].copy_(r);
+    rollout.ended[t].copy_(end);
+    maml.Observe(StepOutcome{out.action, r, end, o, {}}, state);
+    if (t + 1 == len) maml.Adapt(torch::ones({n}, torch::kBool), state);
+  }
+  // an update on other pre-adaptation data than Adapt saw must not reuse it
+  if (change_the_data) rollout.rewards[0][0].add_(1.0f);
+  return maml.Update(rollout);
+}
+
+TEST(MamlTest, UpdateReusesTheTrainingLoopsInnerStepAndLearnsTheSame) {
+  const int64_t n = 3, len = 5;
+  for (const std::string outer : {"trpo", "ppo"}) {
+    MamlConfig config = Small();
+    config.outer = outer;
+    config.outer_epochs = 2;
+    MamlLearner reusing(config, Spaces()), recomputing(config, Spaces());
+    rl::RolloutBuffer a(2 * len, n, 2, 2), b(2 * len, n, 2, 2);
+    const Metrics with = TrainOneIteration(reusing, a, len, /*learning=*/true, false);
+    const Metrics without = TrainOneIteration(recomputing, b, len, /*learning=*/false, false);
+    EXPECT_EQ(with.Get("inner_steps_reused"), 1.0) << outer;
+    EXPECT_EQ(without.Get("inner_steps_reused"), 0.0) << outer;
+    // the same inner step, so the same meta-update
+    EXPECT_TRUE(torch::equal(reusing.policy()->flat(), recomputing.policy()->flat())) << outer;
+    const char* loss = outer == "trpo" ? "surrogate" : "outer_loss";
+    EXPECT_EQ(with.Get(loss), without.Get(loss)) << outer;
+    // changed data: recomputed, and the update follows the data it was given
+    MamlLearner changed(config, Spaces());
+    rl::RolloutBuffer c(2 * len, n, 2, 2);
+    const Metrics m = TrainOneIteration(changed, c, len, /*learning=*/true, true);
+    EXPECT_EQ(m.Get("inner_steps_reused"), 2.0 / 3.0) << outer;
+    EXPECT_FALSE(torch::equal(changed.policy()->flat(), reusing.policy()->flat())) << outer;
+  }
 }
 
 TEST(MamlTest, CheckpointsRoundTripAndBadConfigsNameTheField) {

@@ -48,6 +48,10 @@ struct ActorState {
   // an evaluation protocol seeds its own, so its sampled episodes depend only
   // on its seed and never move the training's random stream.
   std::optional<at::Generator> generator;
+  // True in the training loop's state: the learner's next Update learns from
+  // the episodes acted here, so an actor may keep what it computed for them
+  // (MAML keeps its differentiable inner step from Adapt for the update).
+  bool learning = false;
 };
 
 // The generator an actor samples from for this state.
@@ -116,8 +120,10 @@ inline bool RestartUnlessSized(Actor& actor, ActorState& state, const std::strin
   const torch::Tensor& t = state.tensors[key];
   if (t.defined() && t.size(0) == num_envs) return false;
   std::optional<at::Generator> own = state.generator;
+  const bool learning = state.learning;
   state = actor.Initial(num_envs);
   state.generator = own;
+  state.learning = learning;
   return true;
 }
 

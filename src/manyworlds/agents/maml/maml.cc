@@ -1,6 +1,7 @@
 #include "manyworlds/agents/maml/maml.h"
 
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
@@ -264,6 +265,11 @@ void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
   const std::vector<torch::Tensor>& theta = policy_->params();
   std::vector<std::vector<torch::Tensor>> rows(theta.size());
   const torch::Tensor mask = envs.to(torch::kBool);
+  // the training loop adapts every env once per iteration; its update reuses this inner step
+  const bool keep = state.learning && mask.all().item<bool>() &&
+                    h.select(2, h.size(2) - 1).all().item<bool>();
+  adaptation_ = {};
+  if (keep) adaptation_.num_updates = num_updates_;
   for (int64_t i = 0; i < n; ++i) {
     std::vector<torch::Tensor> adapted;
     if (mask[i].item<bool>()) {
@@ -271,13 +277,17 @@ void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
       MamlEpisodes e;
       e.obs = col.narrow(1, 0, d_obs);
       e.actions = col.narrow(1, d_obs, d_act);
-      const torch::Tensor rewards = col.select(1, d_obs + d_act);
+      e.returns = col.select(1, d_obs + d_act);
       torch::Tensor ended = col.select(1, d_obs + d_act + 1).clone();
       const torch::Tensor valid = col.select(1, d_obs + d_act + 2);
       ended[ended.size(0) - 1].fill_(1.0f);
-      e.advantages = Advantages(e.obs, rewards, ended, valid);
-      for (const torch::Tensor& p : InnerStep(theta, e, valid, /*create_graph=*/false)) {
-        adapted.push_back(p.detach());
+      e.advantages = Advantages(e.obs, e.returns, ended, valid);
+      std::vector<torch::Tensor> step = InnerStep(theta, e, valid, /*create_graph=*/keep);
+      for (const torch::Tensor& p : step) adapted.push_back(p.detach());
+      if (keep) {
+        adaptation_.pre.push_back(e);
+        adaptation_.ended.push_back(ended);
+        adaptation_.adapted.push_back(std::move(step));
       }
     } else if (!state.lists[kAdapted].empty()) {
       for (const torch::Tensor& p : state.lists[kAdapted]) adapted.push_back(p[i]);
@@ -291,6 +301,14 @@ void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
   state.lists[kHistory].clear();
 }
 
+bool MamlLearner::Adapted(int64_t i, const MamlEpisodes& pre, const torch::Tensor& ended) const {
+  const Adaptation& a = adaptation_;
+  if (a.num_updates != num_updates_ || i >= static_cast<int64_t>(a.pre.size())) return false;
+  const MamlEpisodes& e = a.pre[i];
+  return torch::equal(e.obs, pre.obs) && torch::equal(e.actions, pre.actions) &&
+         torch::equal(e.returns, pre.returns) && torch::equal(a.ended[i], ended);
+}
+
 Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
   const int64_t steps = rollout.steps();
   const int64_t n = rollout.envs();
@@ -300,13 +318,24 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
   }
   const int64_t pre_len = steps / 2;
   std::vector<MamlEpisodes> pre(n), post(n);
+  // each env's adapted parameters at theta with the inner step's graph
+  std::vector<std::vector<torch::Tensor>> adapted(n);
+  const bool whole_adaptation = static_cast<int64_t>(adaptation_.pre.size()) == n;
   double pre_return = 0.0, post_return = 0.0, pre_episodes = 0.0, post_episodes = 0.0;
   const torch::Tensor ones_pre = torch::ones({pre_len});
+  int64_t reused = 0;
   for (int64_t i = 0; i < n; ++i) {
     const Column a = Slice(rollout, 0, pre_len, i);
     const Column b = Slice(rollout, pre_len, steps, i);
-    pre[i] = {a.obs, a.actions, a.log_probs, Advantages(a.obs, a.rewards, a.ended, ones_pre),
-              a.rewards};
+    pre[i] = {a.obs, a.actions, a.log_probs, torch::Tensor(), a.rewards};
+    if (whole_adaptation && Adapted(i, pre[i], a.ended)) {
+      pre[i].advantages = adaptation_.pre[i].advantages;
+      adapted[i] = std::move(adaptation_.adapted[i]);
+      ++reused;
+    } else {
+      pre[i].advantages = Advantages(a.obs, a.rewards, a.ended, ones_pre);
+      adapted[i] = InnerStep(policy_->params(), pre[i], ones_pre, /*create_graph=*/true);
+    }
     post[i] = {b.obs, b.actions, b.log_probs, Advantages(b.obs, b.rewards, b.ended, ones_pre),
                b.rewards};
     pre_return += a.rewards.sum().item<double>();
@@ -314,16 +343,19 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     pre_episodes += a.ended.sum().item<double>();
     post_episodes += b.ended.sum().item<double>();
   }
+  adaptation_ = {};
   const std::vector<torch::Tensor>& params = policy_->params();
 
   // TRPO: the post-adaptation policies at the current theta (the KL's reference)
   std::vector<nn::ActionDistribution> old;
-  auto objective = [&](bool create_graph, torch::Tensor* kl) {
+  // the surrogate (and KL) of the post-adaptation policies whose parameters
+  // env i's `inner(i)` gives
+  auto objective = [&](const std::function<std::vector<torch::Tensor>(int64_t)>& inner,
+                       torch::Tensor* kl) {
     torch::Tensor surrogate = torch::zeros({});
     torch::Tensor divergence = torch::zeros({});
     for (int64_t i = 0; i < n; ++i) {
-      const nn::ActionDistribution d =
-          policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, create_graph));
+      const nn::ActionDistribution d = policy_->Forward(post[i].obs, {}, inner(i));
       surrogate =
           surrogate +
           ((d.LogProb(post[i].actions) - post[i].log_probs).exp() * post[i].advantages).mean();
@@ -332,18 +364,22 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     if (kl != nullptr) *kl = divergence / static_cast<double>(n);
     return surrogate / static_cast<double>(n);
   };
+  auto at_theta = [&](int64_t i) { return adapted[i]; };
 
   Metrics m;
   m.Set("pre_adaptation_return", pre_return / std::max(1.0, pre_episodes));
   m.Set("post_adaptation_return", post_return / std::max(1.0, post_episodes));
+  // the share of envs whose inner step at theta was Adapt's (1 in training)
+  m.Set("inner_steps_reused", static_cast<double>(reused) / static_cast<double>(n));
   if (config_.outer == "ppo") {
     double loss_value = 0.0, clipped = 0.0;
     for (int64_t epoch = 0; epoch < config_.outer_epochs; ++epoch) {
       torch::Tensor loss = torch::zeros({});
       clipped = 0.0;
       for (int64_t i = 0; i < n; ++i) {
-        const nn::ActionDistribution d =
-            policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, true));
+        // the first epoch is at theta; later ones re-adapt from the stepped theta
+        const nn::ActionDistribution d = policy_->Forward(
+            post[i].obs, {}, epoch == 0 ? adapted[i] : InnerStep(params, pre[i], ones_pre, true));
         const ClippedSurrogate s = ClippedSurrogateLoss(
             d.LogProb(post[i].actions), post[i].log_probs, post[i].advantages, config_.clip_range);
         loss = loss + s.loss / static_cast<double>(n);
@@ -361,16 +397,17 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
     return m;
   }
   for (int64_t i = 0; i < n; ++i) {
-    old.push_back(
-        policy_->Forward(post[i].obs, {}, InnerStep(params, pre[i], ones_pre, false)).Detached());
+    std::vector<torch::Tensor> detached;
+    for (const torch::Tensor& p : adapted[i]) detached.push_back(p.detach());
+    old.push_back(policy_->Forward(post[i].obs, {}, detached).Detached());
   }
-  const torch::Tensor surr = objective(/*create_graph=*/true, nullptr);
+  // one graph at theta serves the gradient and every Fisher-vector product
+  torch::Tensor kl;
+  const torch::Tensor surr = objective(at_theta, &kl);
   const torch::Tensor g = FlatGradient(Grad(surr, params, false), params);
   const double surr_before = surr.item<double>();
+  const torch::Tensor kl_grad = FlatGradient(Grad(kl, params, true), params);
   auto fisher = [&](const torch::Tensor& v) {
-    torch::Tensor kl;
-    objective(/*create_graph=*/true, &kl);
-    const torch::Tensor kl_grad = FlatGradient(Grad(kl, params, true), params);
     const torch::Tensor hv = FlatGradient(Grad((kl_grad * v).sum(), params, false), params);
     return hv + config_.cg_damping * v;
   };
@@ -383,9 +420,12 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
         policy_->flat().copy_(values);
       },
       [&] {
-        torch::Tensor kl;
-        const double value = objective(/*create_graph=*/false, &kl).item<double>();
-        return std::make_pair(value, kl.item<double>());
+        torch::Tensor candidate_kl;
+        const double value =
+            objective([&](int64_t i) { return InnerStep(params, pre[i], ones_pre, false); },
+                      &candidate_kl)
+                .item<double>();
+        return std::make_pair(value, candidate_kl.item<double>());
       },
       surr_before,
       {config_.max_kl, config_.cg_iters, config_.backtrack_ratio, config_.max_backtracks});

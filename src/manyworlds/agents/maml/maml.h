@@ -8,7 +8,8 @@
 // the meta-parameters theta, Adapt, K episodes with the env's adapted
 // parameters theta'_i. Each env is one task instance of the meta-batch.
 //
-// Inner step (Adapt and the update alike): for env i, advantages A of its
+// Inner step (Adapt and the update share one: Adapt in the training loop
+// keeps its graph for the update, see Adaptation): for env i, advantages A of its
 // pre-adaptation episodes (GAE over each episode, every episode end
 // terminal, the linear feature baseline fitted to those episodes;
 // centred), L_i(theta) = -mean(log pi_theta(a|s) A), theta'_i = theta -
@@ -106,6 +107,22 @@ class MamlLearner : public OnPolicyLearner, public Actor {
   torch::Tensor BaselineValues(const torch::Tensor& obs, const torch::Tensor& steps,
                                const torch::Tensor& returns, const torch::Tensor& fit_rows);
   int64_t num_updates_ = 0;
+
+  // What the training loop's Adapt computed (ActorState::learning), for the
+  // next Update: each env's pre-adaptation episodes with their advantages,
+  // and its adapted parameters with the inner step's graph. The update
+  // reuses them where its rollout holds the same episodes at the same theta,
+  // so the inner step at theta runs once per iteration.
+  struct Adaptation {
+    int64_t num_updates = -1;  // theta's version when Adapt ran
+    std::vector<MamlEpisodes> pre;
+    std::vector<torch::Tensor> ended;  // each env's episode ends, as the advantages saw them
+    std::vector<std::vector<torch::Tensor>> adapted;
+  };
+  Adaptation adaptation_;
+  // True if Adapt's record of env i is of these pre-adaptation episodes
+  // (rows of every env valid) at the current theta.
+  bool Adapted(int64_t i, const MamlEpisodes& pre, const torch::Tensor& ended) const;
 };
 
 }  // namespace manyworlds::agents

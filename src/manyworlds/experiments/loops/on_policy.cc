@@ -57,6 +57,7 @@ class OnPolicyAlgorithm : public Algorithm {
     const int64_t d = facts_.obs_dim;
     agents::Actor& actor = learner_->AsActor();
     agents::ActorState state = actor.Initial(num_envs_);
+    state.learning = true;
     const torch::Tensor all_envs = torch::ones({num_envs_}, torch::kBool);
     torch::Tensor ended_envs = torch::zeros({num_envs_}, torch::kBool);
     bool* ended_flags = ended_envs.data_ptr<bool>();
