@@ -13,6 +13,9 @@
 #include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/envs/all.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
+#include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/loops/collector.h"
 #include "manyworlds/experiments/run/run_log.h"
 #include "manyworlds/experiments/task_set.h"
 #include "tests/experiments/scratch_dirs.h"
@@ -197,6 +200,62 @@ TEST(TaskSetTest, ResolvesListsSamplesAndExplicitStates) {
             std::string::npos);
   // cartpole (discrete actions, other sizes) cannot join a SAC run
   EXPECT_NE(ErrorOf([&] { InspectEnvs(named, registry); }).find("cartpole"), std::string::npos);
+}
+
+// A default registration to add to another registry: without the options
+// every registry adds itself.
+EnvRegistration Registration(const std::string& id) {
+  EnvRegistration r = DefaultRegistry().Find(id);
+  std::erase_if(r.options, [](const OptionSpec& o) {
+    for (std::string_view reserved :
+         {Registry::kMaxEpisodeStepsOption, Registry::kTerminateOnSuccessOption,
+          Registry::kRecurrentMetaObsOption, Registry::kRecurrentMetaObsScaleOption}) {
+      if (o.name == reserved) return true;
+    }
+    return false;
+  });
+  return r;
+}
+
+// Every env a collector or protocol steps is built once, and the task set's
+// facts come from those envs, not from envs built only to be looked at.
+TEST(TaskSetTest, CollectorsAndProtocolsBuildEachEnvOnceAndReadItsFacts) {
+  Registry registry;
+  EnvRegistration point_nav = Registration("point-nav");
+  int built = 0;
+  const EnvFactory make = point_nav.factory;
+  point_nav.factory = [&built, make](const Options& options) {
+    ++built;
+    return make(options);
+  };
+  registry.Add(point_nav);
+  EnvSectionConfig env;
+  env.id = "point-nav";
+  env.num_tasks = 3;
+  const TaskSet tasks = ResolveTasks(env, registry);
+  built = 0;
+  const Collector collector(tasks, registry, /*envs_per_task=*/2, /*num_threads=*/1);
+  EXPECT_EQ(built, 6);
+  const EnvFacts inspected = InspectEnvs(tasks, registry);
+  EXPECT_EQ(collector.facts().obs_dim, inspected.obs_dim);
+  EXPECT_EQ(collector.facts().action_high, inspected.action_high);
+  EXPECT_EQ(collector.facts().episode_length, inspected.episode_length);
+  built = 0;
+  const Evaluator evaluator(tasks, registry, /*episodes_per_task=*/4, /*seed=*/1, 1);
+  EXPECT_EQ(built, 12);  // one env per episode slot
+  EXPECT_EQ(evaluator.facts().success_index, inspected.success_index);
+  built = 0;
+  MetaTestConfig meta;
+  meta.trials_per_task = 2;
+  const MetaTestProtocol protocol(tasks, registry, meta, /*seed=*/1, 1);
+  EXPECT_EQ(built, 6);
+  // the facts' checks still hold: cartpole cannot join point-nav's tasks
+  registry.Add(Registration("cartpole"));
+  EnvSectionConfig mixed;
+  mixed.tasks = {"point-nav", "cartpole"};
+  const TaskSet mixed_tasks = ResolveTasks(mixed, registry);
+  EXPECT_NE(ErrorOf([&] { Collector(mixed_tasks, registry, 1, 1); }).find("cartpole"),
+            std::string::npos);
 }
 
 TEST(RunLogTest, JsonLinesWithCsvThatGrowsColumnsAndTruncates) {

@@ -150,12 +150,11 @@ TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry) {
   return set;
 }
 
-EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
+EnvFacts FactsOf(const TaskSet& tasks, const std::function<const Env&(int64_t task)>& env_of) {
   EnvFacts facts;
   std::vector<std::string> info_fields;
   for (int64_t t = 0; t < tasks.size(); ++t) {
-    auto env = tasks.MakeEnv(t, registry);
-    const EnvSpec& spec = env->spec();
+    const EnvSpec& spec = env_of(t).spec();
     const Space& action = spec.action_space;
     const std::string who = "env '" + spec.id + "' (task " + tasks.tasks[t].name + ")";
     for (size_t i = 0; action.is_box() && i < action.low().size(); ++i) {
@@ -192,9 +191,15 @@ EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
   return facts;
 }
 
-EnvFacts CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train,
-                        const Registry& registry) {
-  const EnvFacts eval = InspectEnvs(eval_tasks, registry);
+EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry) {
+  std::unique_ptr<Env> env;
+  return FactsOf(tasks, [&](int64_t t) -> const Env& {
+    env = tasks.MakeEnv(t, registry);
+    return *env;
+  });
+}
+
+void CheckEvalFacts(const EnvFacts& eval, const EnvFacts& train) {
   if (eval.obs_dim != train.obs_dim || eval.action_dim != train.action_dim ||
       eval.num_actions != train.num_actions) {
     throw ConfigError("eval_env: its tasks' observation or action spaces differ from env's (obs " +
@@ -202,7 +207,6 @@ EnvFacts CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train,
                       ", action " + std::to_string(eval.action_dim) + " vs " +
                       std::to_string(train.action_dim) + ")");
   }
-  return eval;
 }
 
 }  // namespace manyworlds::experiments

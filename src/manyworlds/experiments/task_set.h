@@ -12,6 +12,7 @@
 #define MANYWORLDS_EXPERIMENTS_TASK_SET_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,14 +72,18 @@ struct EnvFacts {
   int success_index = -1;      // index of the "success" info field, or -1
 };
 
-// Throws ConfigError if an env has an unbounded Box action space, no
-// episode limit, or spaces that differ between tasks. Which action spaces an
-// algorithm accepts is the algorithm's check (algorithms.h).
+// The facts of a task set, read from one env of each task (`env_of(t)`: the
+// caller's, so that no env is built only to be looked at). Throws
+// ConfigError if an env has an unbounded Box action space, no episode limit,
+// or spaces that differ between tasks. Which action spaces an algorithm
+// accepts is the algorithm's check (algorithms.h).
+EnvFacts FactsOf(const TaskSet& tasks, const std::function<const Env&(int64_t task)>& env_of);
+// FactsOf on one env built per task, for callers that step no envs.
 EnvFacts InspectEnvs(const TaskSet& tasks, const Registry& registry);
 
-// The held-out tasks' facts; ConfigError unless they present the spaces the
+// ConfigError unless the held-out tasks (`eval`) present the spaces the
 // policy was trained on (`train`).
-EnvFacts CheckEvalTasks(const TaskSet& eval_tasks, const EnvFacts& train, const Registry& registry);
+void CheckEvalFacts(const EnvFacts& eval, const EnvFacts& train);
 
 }  // namespace manyworlds::experiments
 

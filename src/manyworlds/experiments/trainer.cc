@@ -127,7 +127,10 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
   tasks = std::move(t);
   eval_tasks = std::move(held_out);
   paths = RunPaths{run_dir};
-  facts = InspectEnvs(tasks, registry);
+  // the collector's envs are the only ones built for the training tasks: their facts come from them
+  collector = std::make_unique<Collector>(tasks, registry, config.env.envs_per_task,
+                                          config.experiment.num_threads);
+  facts = collector->facts();
   num_tasks = tasks.size();
   num_envs = num_tasks * config.env.envs_per_task;
   round_length = facts.episode_length;
@@ -139,17 +142,15 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
   const int64_t iterations =
       (config.experiment.steps_per_task + iteration_steps - 1) / iteration_steps;
   total_steps = iterations * iteration_steps;
-  collector = std::make_unique<Collector>(tasks, registry, facts, config.env.envs_per_task,
-                                          config.experiment.num_threads);
   evaluator = std::make_unique<Evaluator>(tasks, registry, config.experiment.eval_episodes,
                                           MixSeed(config.experiment.seed, kEvalSeedStream),
                                           config.experiment.num_threads, &facts);
   if (eval_tasks) {
-    const EnvFacts eval_facts = CheckEvalTasks(*eval_tasks, facts, registry);
     meta_test =
         std::make_unique<MetaTestProtocol>(*eval_tasks, registry, config.meta_test,
                                            MixSeed(config.experiment.seed, kMetaTestSeedStream),
-                                           config.experiment.num_threads, &eval_facts);
+                                           config.experiment.num_threads);
+    CheckEvalFacts(meta_test->facts(), facts);
     meta_train = std::make_unique<MetaTestProtocol>(
         tasks, registry, config.meta_test, MixSeed(config.experiment.seed, kMetaTrainSeedStream),
         config.experiment.num_threads, &facts);

@@ -23,13 +23,15 @@ MetaTestResult RunMetaTestOn(const RunInfo& run, const fs::path& checkpoint,
                       "or eval_env: {task_seed: 1} for a sampled task distribution)");
   }
   const Registry& registry = DefaultRegistry();
-  const EnvFacts facts = InspectEnvs(run.tasks, registry);
-  const EnvFacts eval_facts = CheckEvalTasks(*run.eval_tasks, facts, registry);
+  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config, seed,
+                            run.config.experiment.num_threads);
+  // the algorithm is built for the training tasks: their facts, read from one env each where the
+  // protocol runs on the held-out ones
+  const EnvFacts facts =
+      on_training_tasks ? protocol.facts() : InspectEnvs(run.tasks, registry);
+  if (!on_training_tasks) CheckEvalFacts(protocol.facts(), facts);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
   algorithm->LoadPolicy(checkpoint);
-  MetaTestProtocol protocol(on_training_tasks ? run.tasks : *run.eval_tasks, registry, config, seed,
-                            run.config.experiment.num_threads,
-                            on_training_tasks ? &facts : &eval_facts);
   MetaTestResult result = protocol.RunMetaTest(algorithm->actor());
   result.step = CheckpointStep(checkpoint);
   return result;
@@ -63,12 +65,11 @@ MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& ch
 EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, int64_t episodes,
                               std::optional<uint64_t> seed) {
   const Registry& registry = DefaultRegistry();
-  const EnvFacts facts = InspectEnvs(run.tasks, registry);
-  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, facts);
-  algorithm->LoadPolicy(checkpoint);
   Evaluator evaluator(run.tasks, registry, episodes,
                       seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
-                      run.config.experiment.num_threads, &facts);
+                      run.config.experiment.num_threads);
+  std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, evaluator.facts());
+  algorithm->LoadPolicy(checkpoint);
   EvalResult result = evaluator.Run(algorithm->actor());
   result.step = CheckpointStep(checkpoint);
   return result;

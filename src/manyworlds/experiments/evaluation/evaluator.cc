@@ -43,12 +43,14 @@ Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t epi
     throw ConfigError("evaluation episodes must be >= 1, got " +
                       std::to_string(episodes_per_task));
   }
-  facts_ = facts != nullptr ? *facts : InspectEnvs(tasks, registry);
   // waves of equal size: cap envs per task, then spread episodes evenly
   const int64_t cap = std::max<int64_t>(1, kMaxEvalEnvs / tasks.size());
   const int64_t waves = (episodes_ + cap - 1) / cap;
   slots_ = (episodes_ + waves - 1) / waves;
-  collector_ = std::make_unique<Collector>(tasks, registry, facts_, slots_, num_threads);
+  collector_ = facts != nullptr
+                   ? std::make_unique<Collector>(tasks, registry, *facts, slots_, num_threads)
+                   : std::make_unique<Collector>(tasks, registry, slots_, num_threads);
+  facts_ = collector_->facts();
 }
 
 Evaluator::~Evaluator() = default;

@@ -85,9 +85,9 @@ class EvaluationProtocol {
 class Evaluator : public EvaluationProtocol {
  public:
   // Builds the evaluation envs (a wave of up to 64 envs in all, split evenly
-  // between tasks). `facts`: the tasks' InspectEnvs, where the caller has
-  // it (else the tasks are inspected again, constructing every env once
-  // more). Throws ConfigError as InspectEnvs does.
+  // between tasks). `facts`: the tasks' facts, where the caller has them
+  // (else they are read from the evaluation envs). Throws ConfigError as
+  // FactsOf does.
   Evaluator(const TaskSet& tasks, const Registry& registry, int64_t episodes_per_task,
             uint64_t seed, int num_threads, const EnvFacts* facts = nullptr);
   ~Evaluator();
@@ -97,6 +97,7 @@ class Evaluator : public EvaluationProtocol {
   EvalResult Run(agents::Actor& actor) override;
 
   int64_t episodes_per_task() const { return episodes_; }
+  const EnvFacts& facts() const { return facts_; }
 
  private:
   // What the envs did after a step: the observations acted on (N, obs_dim),

@@ -116,11 +116,13 @@ MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& re
                                    const EnvFacts* facts)
     : tasks_(test_tasks), config_(config), seed_(seed) {
   config.Validate();
-  facts_ = facts != nullptr ? *facts : InspectEnvs(test_tasks, registry);
   const int64_t cap = std::max<int64_t>(1, kMaxEnvs / test_tasks.size());
   const int64_t waves = (config.trials_per_task + cap - 1) / cap;
   slots_ = (config.trials_per_task + waves - 1) / waves;
-  collector_ = std::make_unique<Collector>(test_tasks, registry, facts_, slots_, num_threads);
+  collector_ = facts != nullptr
+                   ? std::make_unique<Collector>(test_tasks, registry, *facts, slots_, num_threads)
+                   : std::make_unique<Collector>(test_tasks, registry, slots_, num_threads);
+  facts_ = collector_->facts();
 }
 
 MetaTestProtocol::~MetaTestProtocol() = default;

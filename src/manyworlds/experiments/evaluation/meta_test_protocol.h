@@ -85,14 +85,15 @@ struct MetaTestResult {
 class MetaTestProtocol : public EvaluationProtocol {
  public:
   // Builds one env per trial, in waves of at most 64. Throws ConfigError as
-  // InspectEnvs does, or on a bad config. `facts`: the tasks' InspectEnvs,
-  // where the caller has it.
+  // FactsOf does, or on a bad config. `facts`: the tasks' facts, where the
+  // caller has them (else they are read from the protocol's envs).
   MetaTestProtocol(const TaskSet& test_tasks, const Registry& registry,
                    const MetaTestConfig& config, uint64_t seed, int num_threads,
                    const EnvFacts* facts = nullptr);
   ~MetaTestProtocol();
 
   MetaTestResult RunMetaTest(agents::Actor& actor);
+  const EnvFacts& facts() const { return facts_; }
   EvalResult Run(agents::Actor& actor) override { return RunMetaTest(actor).AsEvalResult(); }
 
  private:

@@ -29,11 +29,10 @@ CollectionBenchResult MeasureCollection(const TrainConfig& config, int repeats) 
   config.Validate();
   const Registry& registry = DefaultRegistry();
   const TaskSet tasks = ResolveTasks(config.env, registry);
-  const EnvFacts facts = InspectEnvs(tasks, registry);
+  Collector collector(tasks, registry, config.env.envs_per_task, config.experiment.num_threads);
+  const EnvFacts& facts = collector.facts();
   torch::manual_seed(config.experiment.seed);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(config, tasks, facts);
-  Collector collector(tasks, registry, facts, config.env.envs_per_task,
-                      config.experiment.num_threads);
   BatchedExecutor& exec = collector.executor();
   const int64_t n = collector.num_envs();
   const int64_t rounds = algorithm->rounds_per_iteration();

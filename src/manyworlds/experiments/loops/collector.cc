@@ -31,22 +31,44 @@ void PolicyToEnvActions(const float* policy, int64_t rows, const EnvFacts& facts
   }
 }
 
-Collector::Collector(const TaskSet& tasks, const Registry& registry, const EnvFacts& facts,
-                     int64_t envs_per_task, int num_threads)
-    : tasks_(tasks),
-      facts_(facts),
-      envs_per_task_(envs_per_task),
-      num_envs_(tasks.size() * envs_per_task),
-      tracker_(tasks.size() * envs_per_task, static_cast<int64_t>(facts.info_size),
-               facts.success_index) {
+namespace {
+
+std::vector<std::unique_ptr<Env>> MakeEnvs(const TaskSet& tasks, const Registry& registry,
+                                           int64_t envs_per_task) {
   std::vector<std::unique_ptr<Env>> envs;
-  for (int64_t i = 0; i < num_envs_; ++i) {
-    env_tasks_.push_back(i / envs_per_task);
+  for (int64_t i = 0; i < tasks.size() * envs_per_task; ++i) {
     envs.push_back(tasks.MakeEnv(i / envs_per_task, registry));
   }
+  return envs;
+}
+
+}  // namespace
+
+Collector::Collector(const TaskSet& tasks, const Registry& registry, int64_t envs_per_task,
+                     int num_threads)
+    : Collector(tasks, MakeEnvs(tasks, registry, envs_per_task), nullptr, envs_per_task,
+                num_threads) {}
+
+Collector::Collector(const TaskSet& tasks, const Registry& registry, const EnvFacts& facts,
+                     int64_t envs_per_task, int num_threads)
+    : Collector(tasks, MakeEnvs(tasks, registry, envs_per_task), &facts, envs_per_task,
+                num_threads) {}
+
+Collector::Collector(const TaskSet& tasks, std::vector<std::unique_ptr<Env>> envs,
+                     const EnvFacts* facts, int64_t envs_per_task, int num_threads)
+    : tasks_(tasks),
+      facts_(facts != nullptr ? *facts
+                              : FactsOf(tasks, [&](int64_t t) -> const Env& {
+                                  return *envs[t * envs_per_task];
+                                })),
+      envs_per_task_(envs_per_task),
+      num_envs_(tasks.size() * envs_per_task),
+      tracker_(tasks.size() * envs_per_task, static_cast<int64_t>(facts_.info_size),
+               facts_.success_index) {
+  for (int64_t i = 0; i < num_envs_; ++i) env_tasks_.push_back(i / envs_per_task);
   exec_ = std::make_unique<BatchedExecutor>(
       std::move(envs), ExecutorOptions{.num_threads = num_threads, .auto_reset = true});
-  env_actions_.assign(num_envs_ * facts.action_dim, 0.0f);
+  env_actions_.assign(num_envs_ * facts_.action_dim, 0.0f);
   env_variations_.assign(num_envs_, 0);
 }
 

@@ -57,6 +57,11 @@ struct EpisodeTotals {
 
 class Collector {
  public:
+  // Builds envs_per_task envs per task (each env once: the task set's facts
+  // are read from them, see FactsOf, which says what it throws).
+  Collector(const TaskSet& tasks, const Registry& registry, int64_t envs_per_task,
+            int num_threads);
+  // The same with the tasks' facts known.
   Collector(const TaskSet& tasks, const Registry& registry, const EnvFacts& facts,
             int64_t envs_per_task, int num_threads);
 
@@ -99,6 +104,9 @@ class Collector {
   }
 
  private:
+  Collector(const TaskSet& tasks, std::vector<std::unique_ptr<Env>> envs,
+            const EnvFacts* facts, int64_t envs_per_task, int num_threads);
+
   const TaskSet& tasks_;
   EnvFacts facts_;
   int64_t envs_per_task_;
