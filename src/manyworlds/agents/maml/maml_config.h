@@ -20,6 +20,8 @@
 #include <cstdint>
 #include <string>
 
+#include "manyworlds/core/visit_fields.h"
+
 namespace manyworlds::agents {
 
 struct MamlConfig {
@@ -53,31 +55,11 @@ struct MamlConfig {
 
   template <class F>
   void VisitFields(F&& f) {
-    f("hidden_dim", hidden_dim);
-    f("num_layers", num_layers);
-    f("init_std", init_std);
-    f("min_std", min_std);
-    f("max_std", max_std);
-    f("inner_lr", inner_lr);
-    f("episodes_per_task", episodes_per_task);
-    f("discount", discount);
-    f("gae_lambda", gae_lambda);
-    f("center_advantages", center_advantages);
-    f("outer", outer);
-    f("baseline", baseline);
-    f("value_hidden_dim", value_hidden_dim);
-    f("value_num_layers", value_num_layers);
-    f("value_lr", value_lr);
-    f("value_fit_steps", value_fit_steps);
-    f("outer_lr", outer_lr);
-    f("outer_epochs", outer_epochs);
-    f("clip_range", clip_range);
-    f("max_kl", max_kl);
-    f("cg_iters", cg_iters);
-    f("cg_damping", cg_damping);
-    f("backtrack_ratio", backtrack_ratio);
-    f("max_backtracks", max_backtracks);
-    f("seed", seed);
+    MANYWORLDS_VISIT_FIELDS(f, hidden_dim, num_layers, init_std, min_std, max_std, inner_lr,
+                            episodes_per_task, discount, gae_lambda, center_advantages, outer,
+                            baseline, value_hidden_dim, value_num_layers, value_lr, value_fit_steps,
+                            outer_lr, outer_epochs, clip_range, max_kl, cg_iters, cg_damping,
+                            backtrack_ratio, max_backtracks, seed);
   }
   // Rounds of every env collected for one update: the episodes before and
   // after adaptation.

@@ -16,6 +16,8 @@
 
 #include <cstdint>
 
+#include "manyworlds/core/visit_fields.h"
+
 namespace manyworlds::agents {
 
 struct PearlConfig {
@@ -56,32 +58,12 @@ struct PearlConfig {
 
   template <class F>
   void VisitFields(F&& f) {
-    f("latent_dim", latent_dim);
-    f("hidden_dim", hidden_dim);
-    f("num_layers", num_layers);
-    f("encoder_hidden_dim", encoder_hidden_dim);
-    f("encoder_num_layers", encoder_num_layers);
-    f("policy_lr", policy_lr);
-    f("qf_lr", qf_lr);
-    f("vf_lr", vf_lr);
-    f("context_lr", context_lr);
-    f("discount", discount);
-    f("tau", tau);
-    f("reward_scale", reward_scale);
-    f("kl_lambda", kl_lambda);
-    f("use_information_bottleneck", use_information_bottleneck);
-    f("policy_mean_reg", policy_mean_reg);
-    f("policy_std_reg", policy_std_reg);
-    f("log_std_min", log_std_min);
-    f("log_std_max", log_std_max);
-    f("meta_batch", meta_batch);
-    f("batch_size", batch_size);
-    f("embedding_batch_size", embedding_batch_size);
-    f("updates_per_iteration", updates_per_iteration);
-    f("prior_episodes", prior_episodes);
-    f("posterior_episodes", posterior_episodes);
-    f("extra_posterior_episodes", extra_posterior_episodes);
-    f("seed", seed);
+    MANYWORLDS_VISIT_FIELDS(f, latent_dim, hidden_dim, num_layers, encoder_hidden_dim,
+                            encoder_num_layers, policy_lr, qf_lr, vf_lr, context_lr, discount, tau,
+                            reward_scale, kl_lambda, use_information_bottleneck, policy_mean_reg,
+                            policy_std_reg, log_std_min, log_std_max, meta_batch, batch_size,
+                            embedding_batch_size, updates_per_iteration, prior_episodes,
+                            posterior_episodes, extra_posterior_episodes, seed);
   }
   // Episodes per env in one iteration.
   int64_t episodes_per_iteration() const {

@@ -32,6 +32,8 @@
 #include <cstdint>
 #include <string>
 
+#include "manyworlds/core/visit_fields.h"
+
 namespace manyworlds::agents {
 
 struct PolicyGradientConfig {
@@ -61,27 +63,10 @@ struct PolicyGradientConfig {
   // Calls f(name, member) for every field, in documentation order.
   template <class F>
   void VisitFields(F&& f) {
-    f("architecture", architecture);
-    f("task_embedding_dim", task_embedding_dim);
-    f("num_experts", num_experts);
-    f("encoder_dim", encoder_dim);
-    f("pcgrad", pcgrad);
-    f("hidden_dim", hidden_dim);
-    f("num_layers", num_layers);
-    f("init_std", init_std);
-    f("min_std", min_std);
-    f("max_std", max_std);
-    f("baseline", baseline);
-    f("vf_hidden_dim", vf_hidden_dim);
-    f("vf_num_layers", vf_num_layers);
-    f("vf_lr", vf_lr);
-    f("discount", discount);
-    f("gae_lambda", gae_lambda);
-    f("center_advantages", center_advantages);
-    f("entropy_method", entropy_method);
-    f("entropy_coeff", entropy_coeff);
-    f("rollout_rounds", rollout_rounds);
-    f("seed", seed);
+    MANYWORLDS_VISIT_FIELDS(f, architecture, task_embedding_dim, num_experts, encoder_dim, pcgrad,
+                            hidden_dim, num_layers, init_std, min_std, max_std, baseline,
+                            vf_hidden_dim, vf_num_layers, vf_lr, discount, gae_lambda,
+                            center_advantages, entropy_method, entropy_coeff, rollout_rounds, seed);
   }
   // Rounds of every env collected for one update (the on-policy loop's
   // iteration).

@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
+#include "manyworlds/core/visit_fields.h"
 
 namespace manyworlds::agents {
 
@@ -19,11 +20,7 @@ struct PpoConfig : PolicyGradientConfig {
   template <class F>
   void VisitFields(F&& f) {
     PolicyGradientConfig::VisitFields(f);
-    f("lr", lr);
-    f("epochs", epochs);
-    f("minibatch_size", minibatch_size);
-    f("clip_range", clip_range);
-    f("max_grad_norm", max_grad_norm);
+    MANYWORLDS_VISIT_FIELDS(f, lr, epochs, minibatch_size, clip_range, max_grad_norm);
   }
   void Validate() const;
 };

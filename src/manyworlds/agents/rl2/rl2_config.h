@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <string>
 
+#include "manyworlds/core/visit_fields.h"
+
 namespace manyworlds::agents {
 
 struct Rl2Config {
@@ -39,23 +41,10 @@ struct Rl2Config {
 
   template <class F>
   void VisitFields(F&& f) {
-    f("hidden_dim", hidden_dim);
-    f("init_std", init_std);
-    f("min_std", min_std);
-    f("max_std", max_std);
-    f("lr", lr);
-    f("epochs", epochs);
-    f("minibatch_trials", minibatch_trials);
-    f("clip_range", clip_range);
-    f("max_grad_norm", max_grad_norm);
-    f("discount", discount);
-    f("gae_lambda", gae_lambda);
-    f("center_advantages", center_advantages);
-    f("entropy_method", entropy_method);
-    f("entropy_coeff", entropy_coeff);
-    f("episodes_per_trial", episodes_per_trial);
-    f("context_reward_scale", context_reward_scale);
-    f("seed", seed);
+    MANYWORLDS_VISIT_FIELDS(f, hidden_dim, init_std, min_std, max_std, lr, epochs, minibatch_trials,
+                            clip_range, max_grad_norm, discount, gae_lambda, center_advantages,
+                            entropy_method, entropy_coeff, episodes_per_trial, context_reward_scale,
+                            seed);
   }
   // Rounds of every env collected for one update: one trial.
   int64_t RoundsPerIteration() const { return episodes_per_trial; }

@@ -30,6 +30,8 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/core/visit_fields.h"
+
 namespace manyworlds::agents {
 
 struct SacConfig {
@@ -78,32 +80,12 @@ struct SacConfig {
   // and overrides go through this one list).
   template <class F>
   void VisitFields(F&& f) {
-    f("hidden_dim", hidden_dim);
-    f("num_layers", num_layers);
-    f("actor_lr", actor_lr);
-    f("critic_lr", critic_lr);
-    f("alpha_lr", alpha_lr);
-    f("adam_beta1", adam_beta1);
-    f("adam_beta2", adam_beta2);
-    f("discount", discount);
-    f("tau", tau);
-    f("init_temperature", init_temperature);
-    f("batch_size", batch_size);
-    f("target_entropy", target_entropy);
-    f("disentangled_alpha", disentangled_alpha);
-    f("log_std_min", log_std_min);
-    f("log_std_max", log_std_max);
-    f("actor_update_freq", actor_update_freq);
-    f("critic_target_update_freq", critic_target_update_freq);
-    f("max_critic_loss", max_critic_loss);
-    f("seed", seed);
-    f("architecture", architecture);
-    f("task_embedding_dim", task_embedding_dim);
-    f("num_experts", num_experts);
-    f("encoder_dim", encoder_dim);
-    f("pcgrad", pcgrad);
-    f("update_shards", update_shards);
-    f("update_threads", update_threads);
+    MANYWORLDS_VISIT_FIELDS(f, hidden_dim, num_layers, actor_lr, critic_lr, alpha_lr, adam_beta1,
+                            adam_beta2, discount, tau, init_temperature, batch_size, target_entropy,
+                            disentangled_alpha, log_std_min, log_std_max, actor_update_freq,
+                            critic_target_update_freq, max_critic_loss, seed, architecture,
+                            task_embedding_dim, num_experts, encoder_dim, pcgrad, update_shards,
+                            update_threads);
   }
   // Throws ConfigError naming the first bad field and its allowed range.
   void Validate() const;

@@ -15,6 +15,7 @@
 #include <cstdint>
 
 #include "manyworlds/agents/ppo/ppo_config.h"
+#include "manyworlds/core/visit_fields.h"
 
 namespace manyworlds::agents {
 
@@ -51,24 +52,12 @@ struct TePpoConfig : PpoConfig {
   template <class F>
   void VisitFields(F&& f) {
     PpoConfig::VisitFields(f);
-    f("latent_dim", latent_dim);
-    f("encoder_hidden_dim", encoder_hidden_dim);
-    f("encoder_num_layers", encoder_num_layers);
-    f("encoder_init_std", encoder_init_std);
-    f("encoder_min_std", encoder_min_std);
-    f("encoder_max_std", encoder_max_std);
-    f("encoder_entropy_coeff", encoder_entropy_coeff);
-    f("inference_window", inference_window);
-    f("inference_hidden_dim", inference_hidden_dim);
-    f("inference_num_layers", inference_num_layers);
-    f("inference_init_std", inference_init_std);
-    f("inference_min_std", inference_min_std);
-    f("inference_max_std", inference_max_std);
-    f("inference_lr", inference_lr);
-    f("inference_epochs", inference_epochs);
-    f("inference_minibatch_size", inference_minibatch_size);
-    f("inference_ce_coeff", inference_ce_coeff);
-    f("softplus_entropy", softplus_entropy);
+    MANYWORLDS_VISIT_FIELDS(f, latent_dim, encoder_hidden_dim, encoder_num_layers, encoder_init_std,
+                            encoder_min_std, encoder_max_std, encoder_entropy_coeff,
+                            inference_window, inference_hidden_dim, inference_num_layers,
+                            inference_init_std, inference_min_std, inference_max_std, inference_lr,
+                            inference_epochs, inference_minibatch_size, inference_ce_coeff,
+                            softplus_entropy);
   }
   void Validate() const;
 };

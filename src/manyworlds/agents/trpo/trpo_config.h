@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "manyworlds/agents/policy_gradient/policy_gradient_config.h"
+#include "manyworlds/core/visit_fields.h"
 
 namespace manyworlds::agents {
 
@@ -21,13 +22,8 @@ struct TrpoConfig : PolicyGradientConfig {
   template <class F>
   void VisitFields(F&& f) {
     PolicyGradientConfig::VisitFields(f);
-    f("max_kl", max_kl);
-    f("cg_iters", cg_iters);
-    f("cg_damping", cg_damping);
-    f("backtrack_ratio", backtrack_ratio);
-    f("max_backtracks", max_backtracks);
-    f("vf_epochs", vf_epochs);
-    f("vf_minibatch_size", vf_minibatch_size);
+    MANYWORLDS_VISIT_FIELDS(f, max_kl, cg_iters, cg_damping, backtrack_ratio, max_backtracks,
+                            vf_epochs, vf_minibatch_size);
   }
   void Validate() const;
 };
