@@ -115,13 +115,11 @@ RewardTerms DoorUnlock::ComputeReward(const SawyerState& s, std::span<const floa
 
 void DoorLockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                  std::span<float> action) {
-  // The lock site lies toward +z of the bar (angles atan2(x, z): less).
-  PushLockBar(env_obs, kLockGoal, std::atan2(kSiteSide, kSiteAlong), 1, action);
-}
-
-void DoorUnlockScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
-                                   std::span<float> action) {
-  PushLockBar(env_obs, kUnlockGoal, -std::atan2(kSiteSide, kSiteAlong), -1, action);
+  // The lock site lies toward +z of the bar (angles atan2(x, z): less);
+  // unlocking turns the other way.
+  const int direction = unlock_ ? -1 : 1;
+  PushLockBar(env_obs, unlock_ ? kUnlockGoal : kLockGoal,
+              direction * std::atan2(kSiteSide, kSiteAlong), direction, action);
 }
 
 }  // namespace manyworlds::manipulation

@@ -71,13 +71,15 @@ class DoorUnlock : public DoorLockTask {
 // with the closed gripper, coming in from in front of the door.
 class DoorLockScriptedPolicy : public Policy {
  public:
+  explicit DoorLockScriptedPolicy(bool unlock = false) : unlock_(unlock) {}
   void Act(std::span<const float> env_obs, std::span<const float> task_obs,
            std::span<float> action) override;
+
+ private:
+  bool unlock_;
 };
-class DoorUnlockScriptedPolicy : public Policy {
- public:
-  void Act(std::span<const float> env_obs, std::span<const float> task_obs,
-           std::span<float> action) override;
+struct DoorUnlockScriptedPolicy : DoorLockScriptedPolicy {
+  DoorUnlockScriptedPolicy() : DoorLockScriptedPolicy(/*unlock=*/true) {}
 };
 
 }  // namespace manyworlds::manipulation

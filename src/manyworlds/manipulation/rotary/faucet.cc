@@ -64,47 +64,40 @@ RewardTerms FaucetRewardV1(const SawyerState& s) {
 
 }  // namespace
 
-SawyerTaskConfig FaucetOpen::Config() {
-  return FaucetConfig(1.0, "faucet-open", "Sawyer arm: turn a faucet's handle to the right",
-                      {{-0.05, 0.8, 0.0}, {0.05, 0.85, 0.0}});
-}
-
-FaucetOpen::FaucetOpen(SawyerOptions options) : ArticulatedTask(Config(), Fixture(1.0), options) {}
-
-RewardTerms FaucetOpen::ComputeReward(const SawyerState& s, std::span<const float>) const {
-  // v3 moves the object point 4 cm left and 3 cm up before it compares it.
-  return FaucetReward(s, {s.obj[0] - 0.04, s.obj[1], s.obj[2] + 0.03});
-}
-
-SawyerTaskConfig FaucetClose::Config() {
+template <int kSide>
+SawyerTaskConfig Faucet<kSide>::Config() {
+  if (kSide > 0) {
+    return FaucetConfig(1.0, "faucet-open", "Sawyer arm: turn a faucet's handle to the right",
+                        {{-0.05, 0.8, 0.0}, {0.05, 0.85, 0.0}});
+  }
   return FaucetConfig(-1.0, "faucet-close", "Sawyer arm: turn a faucet's handle to the left",
                       {{-0.1, 0.8, 0.0}, {0.1, 0.85, 0.0}});
 }
 
-FaucetClose::FaucetClose(SawyerOptions options)
-    : ArticulatedTask(Config(), Fixture(-1.0), options) {}
+template <int kSide>
+Faucet<kSide>::Faucet(SawyerOptions options)
+    : ArticulatedTask(Config(), Fixture(kSide), options) {}
 
-RewardTerms FaucetClose::ComputeReward(const SawyerState& s, std::span<const float>) const {
+template <int kSide>
+RewardTerms Faucet<kSide>::ComputeReward(const SawyerState& s, std::span<const float>) const {
+  // opening, v3 moves the object point 4 cm left and 3 cm up before it compares it
+  if (kSide > 0) return FaucetReward(s, {s.obj[0] - 0.04, s.obj[1], s.obj[2] + 0.03});
   return FaucetReward(s, s.obj);
 }
 
-void FaucetOpen::InitTaskState(SawyerState& s) const {
+template <int kSide>
+void Faucet<kSide>::InitTaskState(SawyerState& s) const {
   ArticulatedTask::InitTaskState(s);
   FaucetInitV1(s);
 }
 
-RewardTerms FaucetOpen::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
+template <int kSide>
+RewardTerms Faucet<kSide>::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
   return FaucetRewardV1(s);
 }
 
-void FaucetClose::InitTaskState(SawyerState& s) const {
-  ArticulatedTask::InitTaskState(s);
-  FaucetInitV1(s);
-}
-
-RewardTerms FaucetClose::ComputeRewardV1(const SawyerState& s, std::span<const float>) const {
-  return FaucetRewardV1(s);
-}
+template class Faucet<1>;
+template class Faucet<-1>;
 
 void FaucetScriptedPolicy::Act(std::span<const float> env_obs, std::span<const float>,
                                std::span<float> action) {

@@ -28,9 +28,12 @@
 
 namespace manyworlds::manipulation {
 
-class FaucetOpen : public ArticulatedTask {
+// The two tasks differ only in the side the handle turns to: kSide = +1
+// (open, right) or -1 (close, left).
+template <int kSide>
+class Faucet : public ArticulatedTask {
  public:
-  explicit FaucetOpen(SawyerOptions options = {});
+  explicit Faucet(SawyerOptions options = {});
   static SawyerTaskConfig Config();
 
  protected:
@@ -39,18 +42,10 @@ class FaucetOpen : public ArticulatedTask {
                               std::span<const float> action) const override;
   void InitTaskState(SawyerState& state) const override;
 };
-
-class FaucetClose : public ArticulatedTask {
- public:
-  explicit FaucetClose(SawyerOptions options = {});
-  static SawyerTaskConfig Config();
-
- protected:
-  RewardTerms ComputeReward(const SawyerState& state, std::span<const float> action) const override;
-  RewardTerms ComputeRewardV1(const SawyerState& state,
-                              std::span<const float> action) const override;
-  void InitTaskState(SawyerState& state) const override;
-};
+extern template class Faucet<1>;
+extern template class Faucet<-1>;
+using FaucetOpen = Faucet<1>;
+using FaucetClose = Faucet<-1>;
 
 // Pushes the handle's grip round from its trailing side with the closed
 // gripper; the turning direction is read from the goal (right of the axis:
