@@ -7,7 +7,9 @@
 >>> envs = manyworlds.make_vec("cartpole", 16, threads=2)   # a gymnasium.vector.VectorEnv
 
 Every registry id is also registered with Gymnasium as ``manyworlds/<id>``
-(``gymnasium.make("manyworlds/mt10")``). The extension links manyworlds' env, executor and
+(``gymnasium.make("manyworlds/mt10")``), and Meta-World v3's benchmark ids as
+``manyworlds-Meta-World/<id>`` (``gymnasium.make_vec("manyworlds-Meta-World/MT10")``;
+``manyworlds.metaworld_gym``). The extension links manyworlds' env, executor and
 suite libraries only (never libtorch), so it imports beside PyTorch or JAX.
 """
 
@@ -81,3 +83,9 @@ def _register_with_gymnasium() -> None:
 
 
 _register_with_gymnasium()
+
+# Meta-World v3's ids (MT1, MT10, ML10-train, ...) under a namespace of our own, so that they never
+# replace the official package's "Meta-World/..." when both are imported.
+from manyworlds import metaworld_gym  # noqa: E402
+
+metaworld_gym.register_envs()

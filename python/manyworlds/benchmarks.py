@@ -25,7 +25,13 @@ The envs are single manyworlds tasks whose observation is Meta-World's flat 39-v
 (goal zeroed in the ML benchmarks); the variations are the ones of manyworlds' own benchmark
 envs (``mt10``, ``ml10``, ``mt1``, ``ml1``, ...) with ``benchmark_seed = seed``, 50 per task. Task
 names are manyworlds ids (``"pick-place"``); MT1/ML1 also accept Meta-World's versioned names
-(``"pick-place-v3"``) and then key their dicts by the name given.
+(``"pick-place-v3"``) and then key their dicts by the name given. Wherever v3 takes a name, both
+forms work: ``MT10().train_classes["reach-v3"]`` and ``["reach"]`` are the same class, and
+``set_task`` takes a task of either name.
+
+``gymnasium.make("manyworlds-Meta-World/MT1", env_name="reach-v3")`` and
+``gymnasium.make_vec("manyworlds-Meta-World/MT10")`` (``ML10-train``, ``ML10-test``, ...) are v3's
+``Meta-World/...`` entry points under a namespace of our own (``manyworlds.metaworld_gym``).
 """
 
 from __future__ import annotations
@@ -38,7 +44,7 @@ from manyworlds import _core
 from manyworlds.env import ManyworldsEnv
 
 __all__ = [
-    "Task", "Benchmark", "SawyerEnv", "MT1", "MT10", "MT25", "MT50", "ML1", "ML10", "ML25", "ML45",
+    "Task", "Benchmark", "EnvClasses", "SawyerEnv", "MT1", "MT10", "MT25", "MT50", "ML1", "ML10", "ML25", "ML45",
     "MT10_TASKS", "MT25_TASKS", "MT50_TASKS", "ML10_TRAIN_TASKS", "ML10_TEST_TASKS",
     "ML25_TRAIN_TASKS", "ML25_TEST_TASKS", "ML45_TRAIN_TASKS", "ML45_TEST_TASKS",
 ]
@@ -54,6 +60,45 @@ class Task(NamedTuple):
     def state(self) -> Dict[str, Any]:
         """The task state as a dict (``json.loads(data)``)."""
         return json.loads(self.data)
+
+
+_V3_SUFFIX = "-v3"
+
+
+def _base_name(name: str) -> str:
+    """A task name without v3's suffix: "reach-v3" and "reach" name the same task."""
+    return name[: -len(_V3_SUFFIX)] if isinstance(name, str) and name.endswith(_V3_SUFFIX) else name
+
+
+class EnvClasses(dict):
+    """``train_classes``/``test_classes``: task name to env class, in the benchmark's order.
+
+    Iteration gives the names the benchmark was made with; a lookup also takes the other form of
+    a name (``"reach-v3"`` for ``"reach"`` and back), as v3 scripts index by v3's names.
+    """
+
+    def _find(self, key: Any) -> Optional[str]:
+        if dict.__contains__(self, key):
+            return key
+        if isinstance(key, str):
+            base = _base_name(key)
+            for name in self:
+                if _base_name(name) == base:
+                    return name
+        return None
+
+    def __missing__(self, key: Any) -> Type["SawyerEnv"]:
+        name = self._find(key)
+        if name is None:
+            raise KeyError(f"{key!r} is not a task of this benchmark; its tasks: {', '.join(self)}")
+        return dict.__getitem__(self, name)
+
+    def __contains__(self, key: Any) -> bool:
+        return self._find(key) is not None
+
+    def get(self, key: Any, default: Any = None) -> Any:
+        name = self._find(key)
+        return default if name is None else dict.__getitem__(self, name)
 
 
 class SawyerEnv(ManyworldsEnv):
@@ -80,9 +125,9 @@ class SawyerEnv(ManyworldsEnv):
     def set_task(self, task: Task) -> None:
         """Switches to a task variation from a benchmark's ``train_tasks``/``test_tasks``.
 
-        Raises ``ValueError`` if the task belongs to another env class.
+        A task named ``"reach-v3"`` fits an env of ``"reach"`` and back. Raises ``ValueError`` if the task belongs to another env class.
         """
-        if task.env_name != self.TASK_NAME:
+        if _base_name(task.env_name) != _base_name(self.TASK_NAME):
             raise ValueError(f"task of '{task.env_name}' given to an env of '{self.TASK_NAME}'")
         self.set_task_state(json.loads(task.data))
 
@@ -106,8 +151,8 @@ class Benchmark:
     """Base of the benchmarks: ``train_classes``, ``train_tasks``, ``test_classes``, ``test_tasks``."""
 
     def __init__(self) -> None:
-        self.train_classes: Dict[str, Type[SawyerEnv]] = {}
-        self.test_classes: Dict[str, Type[SawyerEnv]] = {}
+        self.train_classes: EnvClasses = EnvClasses()
+        self.test_classes: EnvClasses = EnvClasses()
         self.train_tasks: List[Task] = []
         self.test_tasks: List[Task] = []
 
@@ -115,7 +160,7 @@ class Benchmark:
     def _variations(bench_id: str, options: Dict[str, Any], names: Dict[str, str], goal_observable: bool):
         """(classes, tasks) of one split of a manyworlds benchmark env."""
         env = _core.Env(bench_id, options)
-        classes: Dict[str, Type[SawyerEnv]] = {}
+        classes = EnvClasses()
         tasks: List[Task] = []
         for task_id, states in env.evaluation_tasks():
             name = names.get(task_id, task_id)
@@ -229,3 +274,11 @@ ML25_TRAIN_TASKS = _splits("ml25")["train"]
 ML25_TEST_TASKS = _splits("ml25")["test"]
 ML45_TRAIN_TASKS = _splits("ml45")["train"]
 ML45_TEST_TASKS = _splits("ml45")["test"]
+
+
+def __getattr__(name: str) -> Any:
+    # v3's module-level make functions (``metaworld.make_mt_envs``), imported when first used
+    if name in ("make_mt_envs", "make_ml_envs"):
+        from manyworlds import metaworld_gym
+        return getattr(metaworld_gym, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
