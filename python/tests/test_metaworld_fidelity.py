@@ -12,6 +12,10 @@ creates .venv-metaworld/ and sets it. Without it these tests are skipped, saying
 
 Tasks listed in FAITHFUL are those whose v3 reward (reward_function_version "v2", v3's default)
 manyworlds computes; docs/fidelity.md lists the rest and what differs.
+
+The observation bounds are checked too: every task's Box low/high, as the Meta-World-shaped
+classes (manyworlds.benchmarks MT1 and ML1) report them, must equal v3's to 1e-6 but for the
+listed BOUND_EXCEPTIONS.
 """
 
 import json
@@ -41,6 +45,13 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
 RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"
+
+# Observation bounds that differ from v3's on purpose: {(task, split): {index: reason}}, split
+# "mt1" (goal visible) or "ml1" (goal hidden). None at present: since 2026-11-27 every task's
+# goal bounds are v3's goal_space (SawyerTaskConfig::goal_space), and the rest of the Box (hand,
+# gripper, objects) is v3's for all 50. An entry whose bound equals v3's fails the test, so the
+# list cannot outlive its reason.
+BOUND_EXCEPTIONS = {}
 
 
 @pytest.fixture(scope="module")
@@ -104,3 +115,51 @@ def test_the_record_of_a_step_gives_the_step_reward():
         _, _, reward, _, _, info = env.step(action)
     ours = mp.reward("push", mp._core.sawyer_state(env), action)
     assert ours["reward"] == pytest.approx(float(reward), rel=1e-6)
+
+
+@pytest.fixture(scope="module")
+def v3_observation_spaces(tmp_path_factory):
+    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
+    if not python:
+        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
+    out = tmp_path_factory.mktemp("metaworld") / "spaces.json"
+    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL),
+                          "--observation-spaces", "--out", str(out)],
+                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
+    return json.loads(out.read_text())["spaces"]
+
+
+def bound_mismatches(ours, theirs):
+    """Indices where two bound vectors differ by more than 1e-6 (equal infinities agree)."""
+    import math
+    assert len(ours) == len(theirs) == 39
+    return [i for i, (a, b) in enumerate(zip(ours, theirs))
+            if not (a == b or (math.isfinite(a) and math.isfinite(b) and abs(a - b) <= 1e-6))]
+
+
+def test_every_task_is_checked_for_its_observation_bounds():
+    import manyworlds.benchmarks as mb
+    assert sorted(FAITHFUL) == sorted(mb.MT50_TASKS)
+    assert all(key[0] in FAITHFUL and key[1] in ("mt1", "ml1") for key in BOUND_EXCEPTIONS)
+
+
+@pytest.mark.parametrize("task", FAITHFUL)
+def test_observation_bounds_match_the_official_package(v3_observation_spaces, task):
+    import manyworlds.benchmarks as mb
+    problems = []
+    for split, benchmark_class in (("mt1", mb.MT1), ("ml1", mb.ML1)):
+        box = benchmark_class(task).train_classes[task]().observation_space
+        theirs = v3_observation_spaces[task][split]
+        excepted = BOUND_EXCEPTIONS.get((task, split), {})
+        for side in ("low", "high"):
+            ours = [float(x) for x in getattr(box, side)]
+            differ = bound_mismatches(ours, theirs[side])
+            problems += [(split, side, i, ours[i], theirs[side][i]) for i in differ
+                         if i not in excepted]
+        # An exception whose bounds agree with v3's on both sides is no longer needed.
+        agree = [i for i in excepted
+                 if i not in bound_mismatches([float(x) for x in box.low], theirs["low"]) and
+                 i not in bound_mismatches([float(x) for x in box.high], theirs["high"])]
+        problems += [(split, "exception no longer needed", i, excepted[i]) for i in agree]
+    assert not problems, f"{task}: {problems}"

@@ -53,6 +53,25 @@ TEST_P(SawyerTaskTest, SpecFollowsTheSharedContract) {
   EXPECT_EQ(task().model()->opt.timestep, 0.0025);
 }
 
+TEST_P(SawyerTaskTest, GoalsLieInsideTheirObservationBounds) {
+  // The goal's bounds are v3's goal_space where it is not the goal range
+  // (SawyerTaskConfig::goal_space); every goal a task draws lies inside
+  // them, in the task observation and in obs[36:39].
+  const EnvSpec& spec = env_->spec();
+  env_->SeedTask(17);
+  for (int i = 0; i < 30; ++i) {
+    env_->ResetTaskState();
+    ASSERT_TRUE(spec.task_obs_space.Contains(env_->task_obs())) << "variation " << i;
+    const Observation obs = env_->Reset();
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GE(obs.env_obs[kObsGoal + k], spec.env_obs_space.low()[kObsGoal + k]) << i;
+      EXPECT_LE(obs.env_obs[kObsGoal + k], spec.env_obs_space.high()[kObsGoal + k]) << i;
+      EXPECT_EQ(spec.env_obs_space.low()[kObsGoal + k], spec.task_obs_space.low()[k]);
+      EXPECT_EQ(spec.env_obs_space.high()[kObsGoal + k], spec.task_obs_space.high()[k]);
+    }
+  }
+}
+
 TEST_P(SawyerTaskTest, ResetsAreDeterministicBySeed) {
   auto other = Make();
   for (Env* env : {env_, other}) {

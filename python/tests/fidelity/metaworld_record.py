@@ -6,12 +6,15 @@ for it); python/tests/test_metaworld_fidelity.py runs it and evaluates manyworld
 records (`manyworlds.sawyer_reward`). Only the official package is imported here.
 
     python metaworld_record.py --tasks reach,push --out records.json
+    python metaworld_record.py --tasks reach,push --observation-spaces --out spaces.json
 
 Per task: `--goals` of MT1's training goals (seed `--seed`); for each, one episode of uniform
 random actions and one of the package's scripted policy with Gaussian action noise (so that the
 arm reaches, grasps and moves the object), `--steps` steps each. A record is one step:
 {"state": {...}, "action": [...], "reward": r, "info": {...}}; the state keys are manyworlds'
 state record (SawyerState), taken from the official env as its reward code reads them.
+
+With `--observation-spaces`, per task the observation bounds instead (observation_spaces).
 """
 import argparse
 import json
@@ -170,6 +173,28 @@ def record_task(task, goals, steps, seed, reward_version):
     return rows
 
 
+def observation_spaces(tasks):
+    """Per task, the bounds v3 gives its observation: `sawyer_observation_space`, the Box v3
+    clips every observation to, with the goal hidden ("ml1": as an env is built, and as ML1's
+    tasks keep it) and visible ("mt1": after `set_task` with one of MT1's tasks). (The env's
+    `observation_space` attribute is the one computed at construction, so its goal bounds stay
+    zeros after `set_task` makes the goal visible.)"""
+    import metaworld
+
+    box = lambda space: {"low": [float(x) for x in space.low],
+                         "high": [float(x) for x in space.high]}
+    spaces = {}
+    for task in tasks:
+        benchmark = metaworld.MT1(f"{task}-v3", seed=0)
+        env = benchmark.train_classes[f"{task}-v3"]()
+        assert env._partially_observable
+        hidden = box(env.sawyer_observation_space)
+        env.set_task(benchmark.train_tasks[0])
+        assert not env._partially_observable
+        spaces[task] = {"ml1": hidden, "mt1": box(env.sawyer_observation_space)}
+    return spaces
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--tasks", required=True, help="comma-separated task names, e.g. reach,push")
@@ -177,10 +202,17 @@ def main():
     parser.add_argument("--steps", type=int, default=150, help="steps per episode")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--reward-version", default="v2", choices=["v1", "v2"])
+    parser.add_argument("--observation-spaces", action="store_true",
+                        help="record each task's observation bounds (MT1 and ML1) instead of steps")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
     import metaworld
 
+    if args.observation_spaces:
+        with open(args.out, "w") as f:
+            json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
+                       "spaces": observation_spaces(args.tasks.split(","))}, f)
+        return
     rows = []
     for task in args.tasks.split(","):
         rows += record_task(task, args.goals, args.steps, args.seed, args.reward_version)

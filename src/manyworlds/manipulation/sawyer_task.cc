@@ -59,9 +59,11 @@ EnvSpec SawyerTask::MakeSpec(const SawyerTaskConfig& config, const SawyerOptions
     low[base + kObsGripper] = -1.0f;
     high[base + kObsGripper] = 1.0f;
   }
+  // The goal's bounds: v3's goal_space (config.goal_space) where it is not the goal range.
+  const Range3 goal_space = config.goal_space.value_or(Range3{config.goal_low, config.goal_high});
   for (int i = 0; i < 3; ++i) {
-    low[kObsGoal + i] = options.goal_observable ? static_cast<float>(config.goal_low[i]) : 0.0f;
-    high[kObsGoal + i] = options.goal_observable ? static_cast<float>(config.goal_high[i]) : 0.0f;
+    low[kObsGoal + i] = options.goal_observable ? static_cast<float>(goal_space.low[i]) : 0.0f;
+    high[kObsGoal + i] = options.goal_observable ? static_cast<float>(goal_space.high[i]) : 0.0f;
   }
   EnvSpec spec;
   spec.id = config.id;
@@ -71,8 +73,8 @@ EnvSpec SawyerTask::MakeSpec(const SawyerTaskConfig& config, const SawyerOptions
   if (options.goal_observable) {
     std::vector<float> goal_low(3), goal_high(3);
     for (int i = 0; i < 3; ++i) {
-      goal_low[i] = static_cast<float>(config.goal_low[i]);
-      goal_high[i] = static_cast<float>(config.goal_high[i]);
+      goal_low[i] = static_cast<float>(goal_space.low[i]);
+      goal_high[i] = static_cast<float>(goal_space.high[i]);
     }
     spec.task_obs_space = Space::Box(std::move(goal_low), std::move(goal_high), {3});
   }

@@ -18,6 +18,9 @@
 //           the task has no second object)
 //   [18:36] the previous step's [0:18] (a copy of [0:18] after reset)
 //   [36:39] goal position (zeros when the goal is hidden)
+//   Bounds, as v3's sawyer_observation_space: the hand in v3's _HAND_SPACE,
+//   [3] in [-1, 1], objects unbounded, the goal in the task's goal_space
+//   (zeros when hidden).
 // Task observation: the goal position (3) when observable, else empty.
 // Info: success, near_object, grasp_success, grasp_reward, in_place_reward,
 //   obj_to_target, unscaled_reward (task-specific meanings; see each task).
@@ -40,6 +43,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -75,6 +79,11 @@ inline constexpr double kTcpBelowHand = 0.035;
 // (x, y, z, w), MuJoCo's own (w, x, y, z), or zeros.
 enum class QuatLayout { kXyzw, kWxyz, kZeros };
 
+// A box of positions, [low, high] per axis.
+struct Range3 {
+  Vec3 low{}, high{};
+};
+
 // Static description of one task.
 struct SawyerTaskConfig {
   std::string id;           // registry id, e.g. "reach"
@@ -84,18 +93,21 @@ struct SawyerTaskConfig {
   Vec3 hand_high{0.5, 1.0, 0.5};
   Vec3 hand_init{0.0, 0.6, 0.2};
   Vec3 obj_low, obj_high;    // object start range
-  Vec3 goal_low, goal_high;  // goal range
+  // Goal range: where goals are drawn (DeriveGoal may replace the draw) and
+  // what task states' goals are checked against.
+  Vec3 goal_low, goal_high;
   double min_obj_goal_xy = 0.15;   // resample while closer (xy)
   bool goal_z_at_object = false;   // goal height forced to the object's
   QuatLayout obj_quat = QuatLayout::kXyzw;  // obs[7:11]: body "obj"'s orientation
   // The body whose orientation obs[7:11] holds where v3 reads another than
   // the object point's (a fixture's fixed base); empty: body "obj".
   std::string obj_quat_body;
-};
-
-// A box of positions, [low, high] per axis.
-struct Range3 {
-  Vec3 low{}, high{};
+  // The goal's observation bounds (obs[36:39] and the task observation's
+  // space): Meta-World v3's goal_space where it is not the goal range. v3
+  // bounds most fixture tasks' goals by the hand's range, and widens others
+  // round where their goals lie (0.1 to 1 mm, a few cm for handle-press and
+  // handle-pull). Unset: [goal_low, goal_high].
+  std::optional<Range3> goal_space;
 };
 
 // Task `id`'s config with the shared defaults, the object drawn from `obj`

@@ -30,6 +30,7 @@ SawyerTaskConfig ButtonPressTopdown::Config() {
   config.hand_init = {0.0, 0.4, 0.2};
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 

@@ -61,6 +61,7 @@ SawyerTaskConfig FrontButtonTask::Config(std::string id, std::string description
   config.obj_high = obj_high;
   config.obj_quat = QuatLayout::kWxyz;
   UseGoalOffset(kGoalOffset, config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 

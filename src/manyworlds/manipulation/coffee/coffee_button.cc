@@ -26,6 +26,9 @@ SawyerTaskConfig CoffeeButton::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "coffee_machine";
   UseGoalOffset(kGoalOffset, config);
+  // v3's goal_space: the object range + (-+0.001, -0.19, 0.299 / 0.301), 1 mm
+  // wider than where the goals lie in x and z.
+  config.goal_space = Range3{{-0.101, 0.61, 0.298}, {0.101, 0.71, 0.302}};
   return config;
 }
 

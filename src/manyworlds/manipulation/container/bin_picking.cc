@@ -22,6 +22,8 @@ SawyerTaskConfig BinPicking::Config() {
                  {{0.12, 0.7, 0.0}, {0.12, 0.7, 0.0}});
   config.hand_low = {-0.5, 0.40, 0.07};
   config.min_obj_goal_xy = 0.0;  // v3 draws no separation (the bins are apart)
+  // v3's goal_space: the goal widened by 0.1 mm in x, 1 mm in y and z.
+  config.goal_space = Range3{{0.1199, 0.699, -0.001}, {0.1201, 0.701, 0.001}};
   config.obj_quat = QuatLayout::kWxyz;
   return config;
 }

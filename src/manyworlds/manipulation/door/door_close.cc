@@ -19,8 +19,12 @@ constexpr double kShut = 0.0;
 }  // namespace
 
 SawyerTaskConfig DoorClose::Config() {
-  return door::DoorConfig("door-close", "Sawyer arm: swing an open door shut", "door_close.xml",
-                          {-0.5, 0.6, 0.2}, kGoalOffset);
+  SawyerTaskConfig config =
+      door::DoorConfig("door-close", "Sawyer arm: swing an open door shut", "door_close.xml",
+                       {-0.5, 0.6, 0.2}, kGoalOffset);
+  // v3's goal_space: the goals' box with z widened 0.1 mm either way.
+  config.goal_space = Range3{{0.2, 0.65, 0.1499}, {0.3, 0.75, 0.1501}};
+  return config;
 }
 
 DoorClose::DoorClose(SawyerOptions options)

@@ -77,7 +77,10 @@ RewardTerms DoorLockTask::ComputeRewardV1(const SawyerState& s, std::span<const 
 }
 
 SawyerTaskConfig DoorLock::Config() {
-  return LockConfig("door-lock", "Sawyer arm: turn a door's lock down", kLockGoal);
+  SawyerTaskConfig config =
+      LockConfig("door-lock", "Sawyer arm: turn a door's lock down", kLockGoal);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
+  return config;
 }
 
 DoorLock::DoorLock(SawyerOptions options)
@@ -96,7 +99,11 @@ RewardTerms DoorLock::ComputeReward(const SawyerState& s, std::span<const float>
 }
 
 SawyerTaskConfig DoorUnlock::Config() {
-  return LockConfig("door-unlock", "Sawyer arm: turn a door's lock back up", kUnlockGoal);
+  SawyerTaskConfig config =
+      LockConfig("door-unlock", "Sawyer arm: turn a door's lock back up", kUnlockGoal);
+  // v3's goal_space, up to 8 mm wider in y than where the goals lie.
+  config.goal_space = Range3{{0.0, 0.64, 0.21}, {0.2, 0.7, 0.2111}};
+  return config;
 }
 
 DoorUnlock::DoorUnlock(SawyerOptions options)

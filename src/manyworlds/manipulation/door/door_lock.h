@@ -9,6 +9,9 @@
 //   object point (obs[4:7]): 0.09 m along the bar, 0.04 m in front of the
 //     axis and 1 cm to one side of it (v3's lockStartLock / lockStartUnlock
 //     sites); obs[7:11] the door's (w, x, y, z) = (1, 0, 0, 0) (v3's door_link)
+//   goal bounds in the observation: v3's goal_space, the hand's bounds
+//     (door-lock), (0, 0.64, 0.21)-(0.2, 0.7, 0.2111) (door-unlock), wider
+//     than where the goals lie
 //   door-lock: goal = lock + (0, -0.04, -0.1);
 //     d = |(obj - left_pad) * (0.25, 1, 0.5)|; near = tol(d, (0, 0.01),
 //     margin d) (v3's margin reads its init_left_pad, a view of the live pad);

@@ -66,6 +66,7 @@ SawyerTaskConfig DrawerTask::DrawerConfig(const char* id, const char* descriptio
   config.obj_high = {0.1, 0.9, 0.0};
   config.obj_quat = obj_quat;
   UseGoalOffset(goal_offset, config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 

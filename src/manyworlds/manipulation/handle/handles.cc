@@ -121,6 +121,9 @@ SawyerTaskConfig HandlePress::Config() {
   config.obj_low = {-0.1, 0.8, -0.001};
   config.obj_high = {0.1, 0.9, 0.001};
   UseGoalOffset(GoalOffset(false, 0.075), config);
+  // v3's goal_space, y 0.55-0.7 and z 0.04-0.08, wider than where the
+  // goals lie, y 0.584-0.684 and z 0.074-0.076 (v3's and ours).
+  config.goal_space = Range3{{-0.1, 0.55, 0.04}, {0.1, 0.7, 0.08}};
   return config;
 }
 
@@ -134,6 +137,7 @@ SawyerTaskConfig HandlePressSide::Config() {
   config.obj_low = {-0.35, 0.65, -0.001};
   config.obj_high = {-0.25, 0.75, 0.001};
   UseGoalOffset(GoalOffset(true, 0.075), config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 
@@ -145,6 +149,9 @@ SawyerTaskConfig HandlePull::Config() {
   config.obj_low = {-0.1, 0.8, -0.001};
   config.obj_high = {0.1, 0.9, 0.001};
   UseGoalOffset(GoalOffset(false, 0.172), config);
+  // v3's goal_space, y 0.55-0.7 and z 0.04-0.18, wider than where the
+  // goals lie, y 0.584-0.684 and z 0.171-0.173 (v3's and ours).
+  config.goal_space = Range3{{-0.1, 0.55, 0.04}, {0.1, 0.7, 0.18}};
   return config;
 }
 
@@ -176,6 +183,7 @@ SawyerTaskConfig HandlePullSide::Config() {
   config.obj_low = {-0.35, 0.65, 0.0};
   config.obj_high = {-0.25, 0.75, 0.0};
   UseGoalOffset(GoalOffset(true, 0.172), config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 

@@ -2,7 +2,10 @@
 // "v2"): a handle on a vertical slide (assets/handle_press.xml, turned a
 // quarter turn for the "side" tasks, handle_press_side.xml), 0.1 m of
 // travel (v3's joint range); hand starts at (0, 0.6, 0.2) (press tasks:
-// 2.5 cm higher, see handles.cc); obs[7:11] zeros.
+// 2.5 cm higher, see handles.cc); obs[7:11] zeros. The observation bounds
+// the goal by v3's goal_space: the hand's bounds for the side tasks,
+// (-0.1, 0.55, 0.04)-(0.1, 0.7, 0.08) (handle-press) and (-0.1, 0.55, 0.04)-
+// (0.1, 0.7, 0.18) (handle-pull), wider than where the goals lie.
 //
 // handle-press, handle-press-side: press the handle down from the top.
 //   post obj_pos in [(-0.1, 0.8, -0.001), (0.1, 0.9, 0.001)] (handle-press)

@@ -129,6 +129,9 @@ SawyerTaskConfig Disassemble::Config() {
   config.goal_z_at_object = false;
   config.min_obj_goal_xy = 0.0;
   config.obj_quat = QuatLayout::kWxyz;
+  // v3's goal_space: its drawn (throw-away) goal's range 5 mm up, x from
+  // -0.1 where the goals (above the nut) start at 0.
+  config.goal_space = Range3{{-0.1, 0.6, 0.1749}, {0.1, 0.75, 0.1751}};
   return config;
 }
 

@@ -31,7 +31,9 @@
 //   nut in (0, 0.6, 0.025)-(0.1, 0.75, 0.02501), round the peg, whose top
 //     is 0.08 above it; goal = nut + (0, 0, 0.15); v3 draws a goal in
 //     (-0.1, 0.6, 0.17)-(0.1, 0.75, 0.17) only to redraw both while it is
-//     within 0.1 m (xy) of the nut, then drops it: we draw the same way
+//     within 0.1 m (xy) of the nut, then drops it: we draw the same way.
+//     The observation bounds the goal by v3's goal_space, (-0.1, 0.6,
+//     0.1749)-(0.1, 0.75, 0.1751): x from -0.1 where the goals start at 0
 //   success: the handle above the goal (obs[6] > goal z): lifted 0.15 m,
 //     the ring clear of the peg's top
 //   in_place = 0.1 [ring z > 0.02] + 0.9 tol(|goal + (0, 0, 0.1) - ring|,

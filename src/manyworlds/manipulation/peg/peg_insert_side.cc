@@ -61,6 +61,9 @@ SawyerTaskConfig PegInsertSide::Config() {
       "peg_insert_side.xml", {{0.0, 0.5, 0.02}, {0.2, 0.7, 0.02}},
       {{-0.35 + kGoalOnBox[0], 0.4, kGoalOnBox[2]}, {-0.25 + kGoalOnBox[0], 0.7, kGoalOnBox[2]}});
   config.min_obj_goal_xy = 0.0;
+  // v3's goal_space: the goals' box with z widened 1 mm either way (v3 draws
+  // the box's height in (-0.001, 0.001); ours stands on the table).
+  config.goal_space = Range3{{-0.32, 0.4, 0.129}, {-0.22, 0.7, 0.131}};
   return config;
 }
 

@@ -32,6 +32,11 @@ SawyerTaskConfig Basketball::Config() {
                                        {{-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2]},
                                         {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2]}});
   config.min_obj_goal_xy = 0.0;
+  // v3's goal_space widens the goal's height by 0.1 mm either way.
+  config.goal_space = Range3{{-0.1, 0.85 + kGoalOnStand[1], kGoalOnStand[2] - 1e-4},
+                             {0.1, 0.9 + kGoalOnStand[1], kGoalOnStand[2] + 1e-4}};
+  // obs[7:11]: the ball's (w, x, y, z), as v3 writes its body's xquat.
+  config.obj_quat = QuatLayout::kWxyz;
   return config;
 }
 

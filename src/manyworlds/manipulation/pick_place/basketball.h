@@ -1,11 +1,10 @@
 // basketball: pick up the ball and put it through the hoop.
 //   ball (radius 3 cm) in [(-0.1, 0.6, 0.03), (0.1, 0.7, 0.03)]
-//   hoop stand in [(-0.1, 0.85, 0), (0.1, 0.9, 0)]; the ring (inner radius
-//     7.9 cm) is centred at stand + (0, -0.1, 0.25) and the goal is 5 cm
-//     below that, inside the net: stand + (0, -0.1, 0.2), so goal_pos lies
-//     in [(-0.1, 0.75, 0.2), (0.1, 0.8, 0.2)], >= 0.15 m from the ball in
-//     xy. Within 8 cm of the goal the ball is at least half through the
-//     ring.
+//   hoop stand in [(-0.1, 0.85, 0), (0.1, 0.9, 0)]; the goal is the ring's
+//     centre, stand + (0, -0.083, 0.25), so goal_pos lies in
+//     [(-0.1, 0.767, 0.25), (0.1, 0.817, 0.25)] (v3's); the observation
+//     bounds it by v3's goal_space, that box with z widened 0.1 mm either
+//     way. obs[7:11] the ball's (w, x, y, z), as v3's.
 //   in_place = tol(|W (obj - goal)|, (0, 0.08), margin |W (obj_init - goal)|)
 //     with W = (1, 1, 2): height counts double
 //   grasped = gripper caging (high density; obj radius 0.025, pad 0.06,

@@ -21,9 +21,14 @@ constexpr double kRewardRadius = 0.05;
 }  // namespace
 
 SawyerTaskConfig ShelfPlace::Config() {
-  return TaskConfig("shelf-place", "Sawyer arm: pick up a block and put it on a shelf",
-                    "shelf_place.xml", {{-0.1, 0.5, kHalfBlock}, {0.1, 0.6, kHalfBlock}},
-                    {{-0.1, 0.8, kGoalHeight}, {0.1, 0.9, kGoalHeight}});
+  SawyerTaskConfig config =
+      TaskConfig("shelf-place", "Sawyer arm: pick up a block and put it on a shelf",
+                 "shelf_place.xml", {{-0.1, 0.5, kHalfBlock}, {0.1, 0.6, kHalfBlock}},
+                 {{-0.1, 0.8, kGoalHeight}, {0.1, 0.9, kGoalHeight}});
+  // v3's goal_space: z widened 1 mm either way (v3 draws the shelf's height
+  // in (-0.001, 0.001); ours stands on the table).
+  config.goal_space = Range3{{-0.1, 0.8, 0.299}, {0.1, 0.9, 0.301}};
+  return config;
 }
 
 ShelfPlace::ShelfPlace(SawyerOptions options)

@@ -14,6 +14,8 @@ SawyerTaskConfig PushBack::Config() {
       TaskConfig("push-back", "Sawyer arm: bring a block back toward the robot", "push_back.xml",
                  {{-0.1, 0.8, 0.02}, {0.1, 0.85, 0.02}}, {{-0.1, 0.6, 0.02}, {0.1, 0.7, 0.02}});
   config.goal_z_at_object = true;
+  // v3's goal_space: the goals' box with z widened 0.1 mm either way.
+  config.goal_space = Range3{{-0.1, 0.6, 0.0199}, {0.1, 0.7, 0.0201}};
   return config;
 }
 

@@ -27,6 +27,8 @@ SawyerTaskConfig DialTurn::Config() {
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "dial_base";
   UseGoalOffset(kGoalOffset, config);
+  // v3's goal_space: the goals' box with z widened 0.1 mm either way.
+  config.goal_space = Range3{{-0.1, 0.73, 0.0299}, {0.1, 0.83, 0.0301}};
   return config;
 }
 

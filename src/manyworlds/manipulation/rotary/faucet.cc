@@ -34,6 +34,7 @@ SawyerTaskConfig FaucetConfig(double side, const char* id, const char* descripti
   config.obj_quat = QuatLayout::kWxyz;
   config.obj_quat_body = "faucet_base";
   UseGoalOffset({side * kArm, 0.0, kGoalHeight}, config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 

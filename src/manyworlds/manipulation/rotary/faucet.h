@@ -5,7 +5,8 @@
 //     obj_pos + (0, 0, 0.124), its 0.175 m arm pointing at the robot at
 //     reset (assets/faucet_fixture.xml); goal = obj_pos + (+-0.175, 0,
 //     0.125), + for open, - for close; hand starts at (0, 0.4, 0.2), bounds
-//     (-0.5, 0.4, -0.15)-(0.5, 1, 0.5) (all as v3)
+//     (-0.5, 0.4, -0.15)-(0.5, 1, 0.5), which also bound the goal in the
+//     observation (all as v3)
 //   object point (obs[4:7]): 1 cm below the arm's end and 1.5 cm to its
 //     trailing side, v3's handleStartOpen / handleStartClose site - 1 cm;
 //     obs[7:11] the base's (w, x, y, z) = (1, 0, 0, 0), as v3's faucetBase

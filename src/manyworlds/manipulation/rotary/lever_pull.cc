@@ -34,6 +34,8 @@ SawyerTaskConfig LeverPull::Config() {
                                        "lever_pull.xml", {{-0.1, 0.7, 0.0}, {0.1, 0.8, 0.0}});
   config.hand_init = {0.0, 0.4, 0.2};
   UseGoalOffset(kGoalOffset, config);
+  // v3's goal_space: its hand bounds, which reach z -0.15 (ours 0.05).
+  config.goal_space = Range3{{-0.5, 0.4, -0.15}, {0.5, 1.0, 0.5}};
   return config;
 }
 

@@ -4,7 +4,8 @@
 //     about an x axis at obj_pos + (0.12, 0, 0.25) and its 0.2 m arm ends in a
 //     grip (obs[4:7]), at obj_pos + (0.12, -0.2, 0.25) at rest; goal = the
 //     grip with the lever up = obj_pos + (0.12, 0, 0.45) (all as v3); hand
-//     starts at (0, 0.4, 0.2)
+//     starts at (0, 0.4, 0.2); the observation bounds the goal by v3's hand
+//     bounds, (-0.5, 0.4, -0.15)-(0.5, 1, 0.5) (ours stop at z 0.05)
 //   With angle = -joint_qpos (the lever's angle up from rest),
 //   shoulder = (hand + (0, 0.055, 0.07) - grip) * (4, 1, 4) (hand = obs[0:3])
 //   ready = tol(|shoulder|, (0, 0.02),

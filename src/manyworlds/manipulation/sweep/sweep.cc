@@ -29,10 +29,15 @@ SawyerTaskConfig Sweep::Config(SweepVariant variant) {
     // The pocket does not move: the goal is one point.
     config.goal_low = {0.0, 0.84, 0.02};
     config.goal_high = {0.0, 0.84, 0.02};
+    // v3's goal_space: that point widened by 1 mm in x, 0.1 mm in y and z.
+    config.goal_space = Range3{{-0.001, 0.8399, 0.0199}, {0.001, 0.8401, 0.0201}};
   } else {
     // Only bounds the observation: the goal is DeriveGoal's.
     config.goal_low = {0.49, 0.6, 0.0};
     config.goal_high = {0.51, 0.7, 0.02};
+    // obs[7:11]: the puck's (w, x, y, z), as v3 writes its body's xquat
+    // (sweep-into's v3 writes (x, y, z, w)).
+    config.obj_quat = QuatLayout::kWxyz;
   }
   return config;
 }

@@ -6,10 +6,12 @@
 //   puck in [(-0.1, 0.6, 0.02), (0.1, 0.7, 0.02)]
 //   sweep: goal (0.5, obj_y, 0.01), the table's edge on the puck's row (v3
 //     samples none; its range [(0.49, 0.6, 0), (0.51, 0.7, 0.02)] only
-//     bounds the observation)
+//     bounds the observation); obs[7:11] the puck's (w, x, y, z), as v3's
 //   sweep-into: goal fixed at (0, 0.84, 0.02), >= 0.15 m from the puck in
 //     xy; the pocket's mouth is at y = 0.785, so success means the puck is
-//     in it. Distances to the goal are measured at the puck's height.
+//     in it. Distances to the goal are measured at the puck's height. The
+//     observation bounds the goal by v3's goal_space, (+-0.001, 0.84 +-
+//     0.0001, 0.02 +- 0.0001); obs[7:11] (x, y, z, w), as v3's.
 //   in_place = tol(|obj - goal|, (0, 0.05), margin |obj_init - goal|)
 //   grasped = SweepCaging (object_tasks.h): pads within 1 cm past the
 //     puck's 2 cm radius, tcp within 5 mm in xz (sweep-into: 5 mm, 1 cm)

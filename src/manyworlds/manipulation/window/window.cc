@@ -70,6 +70,7 @@ SawyerTaskConfig Window::Config(WindowMotion motion) {
   config.obj_high = spec.obj_high;
   config.obj_quat = QuatLayout::kZeros;
   UseGoalOffset(spec.goal_offset, config);
+  config.goal_space = Range3{config.hand_low, config.hand_high};  // v3's: the hand's range
   return config;
 }
 
