@@ -37,6 +37,13 @@ def algo_of(config: pathlib.Path) -> str:
     return "sac"
 
 
+def meta_test_overrides(config: pathlib.Path) -> list:
+    """The fewest meta-test episodes the config's protocol allows."""
+    if re.search(r"^\s+protocol:\s*per_variation", config.read_text(), re.M):
+        return ["meta_test.trials_per_task=1", "meta_test.exploration_episodes=1"]
+    return ["meta_test.num_evals=1", "meta_test.adaptation_episodes=1"]
+
+
 def overrides_for(algo: str, out_dir: pathlib.Path) -> list:
     common = [
         "experiment.steps_per_task=1",
@@ -44,8 +51,6 @@ def overrides_for(algo: str, out_dir: pathlib.Path) -> list:
         "experiment.eval_episodes=1",
         "experiment.checkpoint_every=0",
         f"experiment.run_dir={out_dir}",
-        "meta_test.trials_per_task=1",
-        "meta_test.exploration_episodes=1",
         "meta_test.evaluation_episodes=1",
     ]
     per_algo = {
@@ -76,7 +81,8 @@ def run(args) -> int:
         if run_dir.exists():
             subprocess.run(["rm", "-rf", str(run_dir)], check=True)
         algo = algo_of(config)
-        cmd = [args.cli, "train", str(config)] + overrides_for(algo, run_dir)
+        cmd = ([args.cli, "train", str(config)] + overrides_for(algo, run_dir)
+               + meta_test_overrides(config))
         t0 = time.time()
         proc = subprocess.run(cmd, capture_output=True, text=True)
         took = time.time() - t0

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -21,6 +22,7 @@
 #include "apps/manyworlds/commands.h"
 #include "apps/manyworlds/remaining_time.h"
 #include "apps/manyworlds/stop_signals.h"
+#include "manyworlds/config/override.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/algorithms.h"
 #include "manyworlds/experiments/run/checkpoint_integrity.h"
@@ -56,9 +58,9 @@ void PrintMetaTestTable(const nlohmann::json& m, std::ostream& out,
   table.AddRow({"mean", OptionalFixed(m["success_rate"], 2), OptionalFixed(m["return"], 2),
                 OptionalFixed(m["pre_adaptation_success_rate"], 2),
                 OptionalFixed(m["pre_adaptation_return"], 2), OptionalFixed(m["trial_return"], 2)});
-  out << what << ": " << m["trials_per_task"].get<int64_t>() << " trials per task of "
-      << m["exploration_episodes"].get<int64_t>() << " exploration + "
-      << m["evaluation_episodes"].get<int64_t>() << " evaluation episodes\n";
+  out << what << ": "
+      << experiments::DescribeProtocol(experiments::MetaTestConfigOf(m))
+      << "\n";
   table.Print(out);
 }
 
@@ -208,9 +210,56 @@ struct EvalArgs {
   int64_t episodes = 0;
   std::string protocol = "multi-task";
   bool json = false;
+  // meta_test keys the command line sets for this evaluation (empty: the run's)
+  std::map<std::string, std::string> meta_test;
 };
 
+// The meta-test protocol's parameters eval takes, with v3's names
+// (metaworld/evaluation.py), and what each is.
+const std::vector<std::pair<std::string, std::string>>& MetaTestOptions() {
+  static const std::vector<std::pair<std::string, std::string>> options = {
+      {"meta_protocol", "metalearning_evaluation (Meta-World v3's) or per_variation"},
+      {"num_evals", "metalearning_evaluation: rounds, each on newly sampled goals"},
+      {"adaptation_steps", "metalearning_evaluation: adaptation phases per round"},
+      {"adaptation_episodes", "metalearning_evaluation: episodes per env and adaptation phase"},
+      {"evaluation_episodes",
+       "episodes after adaptation per task (per_variation: per trial)"},
+      {"meta_batch_size", "metalearning_evaluation: envs, split evenly between the tasks"},
+      {"total_tasks_per_cls", "metalearning_evaluation: goals per task, its first N (0: all)"},
+      {"task_select", "metalearning_evaluation: random or pseudorandom goal per env and round"},
+      {"terminate_on_success",
+       "metalearning_evaluation: evaluation episodes end at success (true/false)"},
+      {"exploration_episodes", "per_variation: episodes per trial before adaptation"},
+      {"trials_per_task", "per_variation: variations tried per task"},
+      {"sample_evaluation", "evaluation episodes sample instead of the mode (true/false)"},
+  };
+  return options;
+}
 
+// The run with its meta_test section as the command line changes it.
+experiments::RunInfo WithMetaTestOptions(experiments::RunInfo run,
+                                         const std::map<std::string, std::string>& set) {
+  std::vector<std::string> overrides;
+  for (const auto& [key, value] : set) {
+    if (value.empty()) continue;
+    overrides.push_back("meta_test." + (key == "meta_protocol" ? std::string("protocol") : key) +
+                        "=" + value);
+  }
+  if (overrides.empty()) return run;
+  nlohmann::json tree = run.config.ToJson();
+  ApplyOverrides(tree, overrides);
+  run.config.meta_test = experiments::TrainConfig::FromJson(tree).meta_test;
+  run.config.meta_test.Validate();
+  return run;
+}
+
+
+
+// snake_case -> kebab-case, for option names
+std::string Dashed(std::string key) {
+  std::replace(key.begin(), key.end(), '_', '-');
+  return key;
+}
 
 // The checkpoint `which` names (latest: the newest intact one, with a
 // warning per damaged newer one), verified before use.
@@ -236,7 +285,15 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
 }
 
 void RunEval(const EvalArgs& args, const CommandContext& context) {
-  const experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
+  const experiments::RunInfo run =
+      WithMetaTestOptions(experiments::RunInfo::Read(args.run_dir), args.meta_test);
+  const bool meta = args.protocol == "meta-test" || args.protocol == "meta-train";
+  for (const auto& [key, value] : args.meta_test) {
+    if (!value.empty() && !meta) {
+      throw ConfigError("eval: --" + Dashed(key) + " is an option of --protocol meta-test and "
+                        "meta-train");
+    }
+  }
   const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
   if (const auto warning = experiments::EvaluationThreadWarning(checkpoint)) {
     std::cerr << "warning: " << *warning << "\n";
@@ -249,7 +306,8 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
     }
     if (context.progress || isatty(STDERR_FILENO)) {
       std::cerr << "eval: " << checkpoint.string() << ", " << args.protocol << " on "
-                << (test ? "held-out" : "training") << " tasks\n";
+                << (test ? "held-out" : "training") << " tasks, "
+                << experiments::DescribeProtocol(run.config.meta_test) << "\n";
     }
     nlohmann::json result = test ? experiments::MetaTestCheckpoint(run, checkpoint)
                                  : experiments::MetaTrainCheckpoint(run, checkpoint);
@@ -430,11 +488,16 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
                   "'latest', a checkpoint name (step_...) or a checkpoint directory");
   cmd->add_option("--protocol", args->protocol,
                   "multi-task: the training tasks, deterministic episodes; meta-test: the "
-                  "run's held-out tasks (eval_env), exploration episodes, adaptation, "
-                  "evaluation episodes (meta_test section); meta-train: the same protocol on "
-                  "the training tasks")
+                  "run's held-out tasks (eval_env) by the run's meta_test section (Meta-World "
+                  "v3's metalearning_evaluation unless it says per_variation), which the "
+                  "options below change; meta-train: the same protocol on the training tasks")
       ->check(CLI::IsMember({"multi-task", "meta-test", "meta-train"}))
       ->capture_default_str();
+  for (const auto& [key, help] : MetaTestOptions()) {
+    cmd->add_option("--" + Dashed(key), args->meta_test[key],
+                    help + " (default: the run's meta_test." +
+                        (key == "meta_protocol" ? std::string("protocol") : key) + ")");
+  }
   cmd->add_flag("--json", args->json,
                 "print JSON ({per_task, mean_success, mean_return, ...}; with meta-test "
                 "{meta_test: {success_rate, per_task, pre_adaptation_success_rate, ...}}, "

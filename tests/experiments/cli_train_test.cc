@@ -365,8 +365,8 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
                            "experiment.run_dir=runs/rl2 meta_test.trials_per_task=20",
                        dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("meta-test: 20 trials per task"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("meta-train: 20 trials per task"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("meta-test: per_variation: 20 trials per task"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("meta-train: per_variation: 20 trials per task"), std::string::npos) << r.out;
   r = RunCli("eval runs/rl2 --protocol meta-test --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto json = nlohmann::json::parse(r.out)["meta_test"];

@@ -67,6 +67,7 @@ TEST(MetaTestProtocolTest, ExploresAdaptsThenEvaluates) {
   tasks.options = {{"n_arms", 2}, {"horizon", 2}};
   tasks.tasks.push_back({"bandit", "bandit", {TaskState{"bandit", {{"probs", {0.0, 1.0}}}}}});
   MetaTestConfig config;
+  config.protocol = kPerVariation;
   config.exploration_episodes = 3;
   config.evaluation_episodes = 2;
   config.trials_per_task = 4;

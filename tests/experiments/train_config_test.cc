@@ -246,9 +246,15 @@ TEST(TaskSetTest, CollectorsAndProtocolsBuildEachEnvOnceAndReadItsFacts) {
   EXPECT_EQ(evaluator.facts().success_index, inspected.success_index);
   built = 0;
   MetaTestConfig meta;
+  meta.protocol = kPerVariation;
   meta.trials_per_task = 2;
   const MetaTestProtocol protocol(tasks, registry, meta, /*seed=*/1, 1);
   EXPECT_EQ(built, 6);
+  built = 0;
+  MetaTestConfig v3;
+  v3.meta_batch_size = 3;
+  const MetaTestProtocol metalearning(tasks, registry, v3, /*seed=*/1, 1);
+  EXPECT_EQ(built, 3);  // meta_batch_size envs in all
   // the facts' checks still hold: cartpole cannot join point-nav's tasks
   registry.Add(Registration("cartpole"));
   EnvSectionConfig mixed;

@@ -420,6 +420,12 @@ void BatchedExecutor::SetTaskState(int index, const TaskState& state) {
   impl_->ResetEnv(index);
 }
 
+void BatchedExecutor::ResetEnv(int index) {
+  impl_->CheckNotPending("ResetEnv");
+  env(index);  // checks the index
+  impl_->ResetEnv(index);
+}
+
 void BatchedExecutor::Reset() {
   impl_->CheckNotPending("Reset");
   impl_->RunSync(Impl::JobKind::kReset, nullptr);

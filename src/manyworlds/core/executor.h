@@ -60,6 +60,9 @@ class BatchedExecutor {
   void SetTaskState(int index, const TaskState& state);
   // Resets every env and fills env_obs / task_obs.
   void Reset();
+  // Resets env i alone, on its task, its random streams going on (its obs
+  // rows change): an episode a caller ends early.
+  void ResetEnv(int index);
   // Steps every env with its row of actions (num_envs x action_size).
   void Step(std::span<const float> actions);
   // Asynchronous step: Send copies the actions and returns at once; Recv

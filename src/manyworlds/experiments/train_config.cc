@@ -1,5 +1,7 @@
 #include "manyworlds/experiments/train_config.h"
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 
@@ -37,6 +39,44 @@ std::string ChosenAlgo(const nlohmann::json& file, const std::vector<std::string
     if (o.rfind(kKey, 0) == 0) algo = o.substr(kKey.size());
   }
   return algo;
+}
+
+nlohmann::json MetaTestJson(MetaTestConfig config) {
+  nlohmann::json out = nlohmann::json::object();
+  config.VisitFields([&](const char* key, const auto& value) { out[key] = value; });
+  return out;
+}
+
+// A meta_test key the file or an override sets to other than its default
+// that the chosen protocol has no use for is a ConfigError (a config written
+// for the per_variation protocol, the only one before 2026-11-27, must say
+// so; a whole config.json, defaults included, passes).
+void CheckMetaTestKeys(const nlohmann::json& file, const std::vector<std::string>& overrides,
+                       const MetaTestConfig& meta_test) {
+  std::vector<std::string> set;
+  if (file.is_object() && file.contains("meta_test") && file["meta_test"].is_object()) {
+    for (const auto& [key, value] : file["meta_test"].items()) set.push_back(key);
+  }
+  for (const std::string& o : overrides) {
+    if (o.rfind("meta_test.", 0) == 0) set.push_back(o.substr(10, o.find('=') - 10));
+  }
+  const std::vector<std::string> per_variation_only = {"exploration_episodes", "trials_per_task"};
+  const std::vector<std::string> v3_only = {
+      "num_evals",   "adaptation_steps",    "adaptation_episodes", "meta_batch_size",
+      "task_select", "terminate_on_success", "total_tasks_per_cls"};
+  const auto& foreign = meta_test.per_variation() ? v3_only : per_variation_only;
+  const nlohmann::json defaults = MetaTestJson(MetaTestConfig{});
+  const nlohmann::json chosen = MetaTestJson(meta_test);
+  for (const std::string& key : set) {
+    if (std::find(foreign.begin(), foreign.end(), key) != foreign.end() &&
+        chosen[key] != defaults[key]) {
+      throw ConfigError("'meta_test." + key + "' is not a key of the " + meta_test.protocol +
+                        " protocol; set meta_test.protocol to " +
+                        (meta_test.per_variation() ? std::string(kMetalearningEvaluation)
+                                                   : std::string(kPerVariation)) +
+                        " to use it");
+    }
+  }
 }
 
 [[noreturn]] void Bad(const std::string& key, const std::string& what) {
@@ -88,10 +128,12 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
   }
   {
     ConfigReader r = root.Section("meta_test");
-    r.Read("exploration_episodes", c.meta_test.exploration_episodes);
-    r.Read("evaluation_episodes", c.meta_test.evaluation_episodes);
-    r.Read("trials_per_task", c.meta_test.trials_per_task);
-    r.Read("sample_evaluation", c.meta_test.sample_evaluation);
+    // run directories from before 2026-11-27 name no protocol: theirs was per_variation
+    if (json.is_object() && json.contains("meta_test") && json["meta_test"].is_object() &&
+        !json["meta_test"].contains("protocol")) {
+      c.meta_test.protocol = kPerVariation;
+    }
+    c.meta_test.VisitFields([&](const char* key, auto& value) { r.Read(key, value); });
     r.Finish();
   }
   {
@@ -155,7 +197,9 @@ TrainConfig TrainConfig::Load(const std::optional<std::filesystem::path>& file,
     }
   }
   ApplyOverrides(tree, overrides);
-  return FromJson(tree);
+  TrainConfig config = FromJson(tree);
+  CheckMetaTestKeys(from_file, overrides, config.meta_test);
+  return config;
 }
 
 nlohmann::json TrainConfig::ToJson() const {
@@ -177,11 +221,7 @@ nlohmann::json TrainConfig::ToJson() const {
                                              {"options", eval_env->options},
                                              {"task_seed", eval_env->task_seed}}
                             : nlohmann::json(nullptr)},
-      {"meta_test",
-       {{"exploration_episodes", meta_test.exploration_episodes},
-        {"evaluation_episodes", meta_test.evaluation_episodes},
-        {"trials_per_task", meta_test.trials_per_task},
-        {"sample_evaluation", meta_test.sample_evaluation}}},
+      {"meta_test", MetaTestJson(meta_test)},
       {"agent", AgentConfigToJson(agent)},
       {"replay", {{"capacity", replay.capacity}, {"sampling", replay.sampling}}},
       {"experiment",

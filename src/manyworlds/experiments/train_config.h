@@ -26,9 +26,18 @@
 //                          # split; when set, every evaluation also runs the
 //                          # meta-test protocol on them (meta_test.jsonl)
 //   meta_test:             # the meta-test protocol (experiments/evaluation/meta_test_protocol.h)
-//     exploration_episodes: 10  # per trial, sampled, before Actor::Adapt
-//     evaluation_episodes: 3    # per trial, after adaptation
-//     trials_per_task: 10       # variations tried per held-out task
+//     protocol: metalearning_evaluation  # Meta-World v3's (its names and
+//                          # defaults below), or per_variation
+//     num_evals: 10        # rounds, each on newly sampled goals
+//     adaptation_steps: 1  # adaptation phases per round, each ending in Actor::Adapt
+//     adaptation_episodes: 10  # per env and adaptation phase, sampled
+//     evaluation_episodes: 3   # per task (per_variation: per trial), after adaptation
+//     meta_batch_size: 20  # envs, split evenly between the held-out tasks
+//     total_tasks_per_cls: 0  # goals per held-out task: its first N variations (0: all)
+//     task_select: random  # an env's goal each round: random | pseudorandom
+//     terminate_on_success: true  # evaluation episodes end at the first success
+//     exploration_episodes: 10  # per_variation: per trial, sampled, before Actor::Adapt
+//     trials_per_task: 10       # per_variation: variations tried per held-out task
 //     sample_evaluation: false  # evaluation episodes sample instead of the mode
 //   agent:
 //     algo: sac            # the algorithm: a row of the registry
@@ -77,6 +86,7 @@
 #include <vector>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/visit_fields.h"
 #include "manyworlds/experiments/agent_config.h"
 #include "manyworlds/experiments/task_set.h"
 
@@ -106,11 +116,34 @@ struct ExperimentSectionConfig {
 // The meta-test protocol's settings. Defaults: Meta-World v3's
 // metalearning_evaluation (10 adaptation episodes, 3 evaluation episodes);
 // garage's MetaEvaluator uses 10 and 1.
+inline constexpr char kMetalearningEvaluation[] = "metalearning_evaluation";
+inline constexpr char kPerVariation[] = "per_variation";
+
 struct MetaTestConfig {
-  int64_t exploration_episodes = 10;
+  std::string protocol = kMetalearningEvaluation;
+  // metalearning_evaluation: Meta-World v3's parameters, names and defaults
+  int64_t num_evals = 10;
+  int64_t adaptation_steps = 1;
+  int64_t adaptation_episodes = 10;
+  int64_t meta_batch_size = 20;
+  int64_t total_tasks_per_cls = 0;  // goals per held-out task: its first N variations (0: all)
+  std::string task_select = "random";
+  bool terminate_on_success = true;
+  // both protocols: per task (metalearning_evaluation) or per trial (per_variation)
   int64_t evaluation_episodes = 3;
+  // per_variation
+  int64_t exploration_episodes = 10;
   int64_t trials_per_task = 10;
   bool sample_evaluation = false;
+
+  template <class F>
+  void VisitFields(F&& f) {
+    MANYWORLDS_VISIT_FIELDS(f, protocol, num_evals, adaptation_steps, adaptation_episodes,
+                            evaluation_episodes, meta_batch_size, total_tasks_per_cls, task_select,
+                            terminate_on_success, exploration_episodes, trials_per_task,
+                            sample_evaluation);
+  }
+  bool per_variation() const { return protocol == kPerVariation; }
   // Throws ConfigError naming the field (prefix "meta_test.").
   void Validate() const;
 };

@@ -57,7 +57,11 @@ nlohmann::json MetaTrainCheckpoint(const RunInfo& run, const fs::path& checkpoin
 
 MetaTestResult MetaTestCheckpointEpisodes(const RunInfo& run, const fs::path& checkpoint,
                                           int64_t trials, uint64_t seed) {
+  // trials one by one, every episode shown: the per_variation protocol, with
+  // metalearning_evaluation's adaptation episodes as its exploration
   MetaTestConfig config = run.config.meta_test;
+  if (!config.per_variation()) config.exploration_episodes = config.adaptation_episodes;
+  config.protocol = kPerVariation;
   config.trials_per_task = trials;
   return RunMetaTestOn(run, checkpoint, config, seed, /*on_training_tasks=*/false);
 }

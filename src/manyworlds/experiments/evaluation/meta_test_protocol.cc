@@ -57,6 +57,27 @@ void MetaTestConfig::Validate() const {
     msg << "'meta_test." << field << "' must be " << allowed << ", got " << value;
     throw ConfigError(msg.str());
   };
+  if (protocol != kMetalearningEvaluation && protocol != kPerVariation) {
+    throw ConfigError("'meta_test.protocol' must be one of " + std::string(kMetalearningEvaluation) +
+                      " (Meta-World v3's), " + kPerVariation + "; got '" + protocol + "'");
+  }
+  if (task_select != "random" && task_select != "pseudorandom") {
+    throw ConfigError("'meta_test.task_select' must be one of random, pseudorandom; got '" +
+                      task_select + "'");
+  }
+  if (num_evals < 1 || num_evals > 100000) fail("num_evals", "in [1, 100000]", num_evals);
+  if (adaptation_steps < 1 || adaptation_steps > 1000) {
+    fail("adaptation_steps", "in [1, 1000]", adaptation_steps);
+  }
+  if (adaptation_episodes < 1 || adaptation_episodes > 10000) {
+    fail("adaptation_episodes", "in [1, 10000]", adaptation_episodes);
+  }
+  if (meta_batch_size < 1 || meta_batch_size > 4096) {
+    fail("meta_batch_size", "in [1, 4096]", meta_batch_size);
+  }
+  if (total_tasks_per_cls < 0 || total_tasks_per_cls > 1000000) {
+    fail("total_tasks_per_cls", "in [0, 1000000] (0: every variation)", total_tasks_per_cls);
+  }
   if (exploration_episodes < 0 || exploration_episodes > 10000) {
     fail("exploration_episodes", "in [0, 10000]", exploration_episodes);
   }
@@ -68,36 +89,81 @@ void MetaTestConfig::Validate() const {
   }
 }
 
+int64_t GoalsOf(const TaskSpec& task, const MetaTestConfig& config) {
+  const int64_t all = static_cast<int64_t>(task.variations.size());
+  return config.total_tasks_per_cls > 0 ? std::min(all, config.total_tasks_per_cls) : all;
+}
+
+std::string DescribeProtocol(const MetaTestConfig& c) {
+  std::ostringstream out;
+  if (c.per_variation()) {
+    out << kPerVariation << ": " << c.trials_per_task << " trials per task of "
+        << c.exploration_episodes << " exploration + " << c.evaluation_episodes
+        << " evaluation episodes";
+  } else {
+    out << kMetalearningEvaluation << " (Meta-World v3's): " << c.num_evals << " rounds x "
+        << c.meta_batch_size << " envs, " << c.adaptation_steps << " x "
+        << c.adaptation_episodes << " adaptation episodes per env, then "
+        << c.evaluation_episodes << " evaluation episodes per task"
+        << (c.terminate_on_success ? " ending at success" : "");
+  }
+  return out.str();
+}
+
+MetaTestConfig MetaTestConfigOf(const nlohmann::json& result) {
+  MetaTestConfig c;
+  c.protocol = kPerVariation;
+  c.VisitFields([&](const char* key, auto& value) {
+    if (result.is_object() && result.contains(key)) {
+      value = result[key].get<std::remove_reference_t<decltype(value)>>();
+    }
+  });
+  return c;
+}
+
 nlohmann::json MetaTestResult::ToJson() const {
+  const bool has_pre_adaptation = !config.per_variation() || config.exploration_episodes > 0;
   nlohmann::json tasks = nlohmann::json::object();
   for (const auto& t : per_task) {
     tasks[t.task] = {{"success", OptionalJson(t.success)},
                      {"return", t.mean_return},
                      {"pre_adaptation_success", OptionalJson(t.pre_success)},
-                     {"pre_adaptation_return", config.exploration_episodes > 0
+                     {"pre_adaptation_return", has_pre_adaptation
                                                    ? nlohmann::json(t.pre_mean_return)
                                                    : nlohmann::json(nullptr)},
                      {"trial_return", t.trial_return}};
   }
-  return {{"step", step},
-          {"success_rate", OptionalJson(success_rate)},
-          {"return", mean_return},
-          {"pre_adaptation_success_rate", OptionalJson(pre_adaptation_success_rate)},
-          {"pre_adaptation_return", config.exploration_episodes > 0
-                                        ? nlohmann::json(pre_adaptation_return)
-                                        : nlohmann::json(nullptr)},
-          {"trial_return", trial_return},
-          {"exploration_episodes", config.exploration_episodes},
-          {"evaluation_episodes", config.evaluation_episodes},
-          {"trials_per_task", config.trials_per_task},
-          {"per_task", tasks},
-          {"wall_s", wall_s}};
+  nlohmann::json out = {
+      {"step", step},
+      {"success_rate", OptionalJson(success_rate)},
+      {"return", mean_return},
+      {"pre_adaptation_success_rate", OptionalJson(pre_adaptation_success_rate)},
+      {"pre_adaptation_return", has_pre_adaptation ? nlohmann::json(pre_adaptation_return)
+                                                   : nlohmann::json(nullptr)},
+      {"trial_return", trial_return},
+      {"episodes_per_task", AsEvalResult().episodes_per_task},
+      {"per_task", tasks},
+      {"wall_s", wall_s}};
+  // the protocol and its own parameters
+  MetaTestConfig c = config;
+  const bool v3 = !c.per_variation();
+  c.VisitFields([&](const std::string& key, const auto& value) {
+    const bool per_variation_key = key == "exploration_episodes" || key == "trials_per_task";
+    const bool v3_key = key == "num_evals" || key == "adaptation_steps" ||
+                        key == "adaptation_episodes" || key == "meta_batch_size" ||
+                        key == "task_select" || key == "terminate_on_success" ||
+                        key == "total_tasks_per_cls";
+    if ((v3 && !per_variation_key) || (!v3 && !v3_key)) out[key] = value;
+  });
+  return out;
 }
 
 EvalResult MetaTestResult::AsEvalResult() const {
   EvalResult r;
   r.step = step;
-  r.episodes_per_task = config.trials_per_task * config.evaluation_episodes;
+  r.episodes_per_task = config.per_variation()
+                            ? config.trials_per_task * config.evaluation_episodes
+                            : config.num_evals * config.evaluation_episodes;
   for (const auto& t : per_task) {
     TaskEvalResult task;
     task.task = t.task;
@@ -116,9 +182,30 @@ MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& re
                                    const EnvFacts* facts)
     : tasks_(test_tasks), config_(config), seed_(seed) {
   config.Validate();
-  const int64_t cap = std::max<int64_t>(1, kMaxEnvs / test_tasks.size());
-  const int64_t waves = (config.trials_per_task + cap - 1) / cap;
-  slots_ = (config.trials_per_task + waves - 1) / waves;
+  const int64_t num_tasks = test_tasks.size();
+  if (config.per_variation()) {
+    const int64_t cap = std::max<int64_t>(1, kMaxEnvs / num_tasks);
+    const int64_t waves = (config.trials_per_task + cap - 1) / cap;
+    slots_ = (config.trials_per_task + waves - 1) / waves;
+  } else {
+    // v3 deals each task's goals to its envs in turn (make_ml_envs also
+    // asserts that they split evenly; here an env may have one goal more)
+    if (config.meta_batch_size % num_tasks != 0) {
+      throw ConfigError("'meta_test.meta_batch_size' (" + std::to_string(config.meta_batch_size) +
+                        ") must be a multiple of the number of held-out tasks (" +
+                        std::to_string(num_tasks) + ")");
+    }
+    slots_ = config.meta_batch_size / num_tasks;
+    for (const TaskSpec& task : test_tasks.tasks) {
+      const int64_t goals = GoalsOf(task, config);
+      if (goals < slots_) {
+        throw ConfigError("meta_test: task " + task.name + " has " + std::to_string(goals) +
+                          " goals (variations, at most total_tasks_per_cls), fewer than its " +
+                          std::to_string(slots_) + " envs (meta_batch_size / tasks): lower "
+                          "meta_test.meta_batch_size or give the task more variations");
+      }
+    }
+  }
   collector_ = facts != nullptr
                    ? std::make_unique<Collector>(test_tasks, registry, *facts, slots_, num_threads)
                    : std::make_unique<Collector>(test_tasks, registry, slots_, num_threads);
@@ -128,6 +215,10 @@ MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& re
 MetaTestProtocol::~MetaTestProtocol() = default;
 
 MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
+  return config_.per_variation() ? RunPerVariation(actor) : RunMetalearningEvaluation(actor);
+}
+
+MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
   const auto start = std::chrono::steady_clock::now();
   const int64_t num_tasks = tasks_.size();
   const int64_t n = num_tasks * slots_;

@@ -1,6 +1,34 @@
-// The meta-test protocol (garage's MetaEvaluator, Meta-World v3's
-// metalearning_evaluation): for every test
-// task and each of its variations, one trial in one env:
+// The meta-test protocols (MetaTestConfig::protocol).
+//
+// metalearning_evaluation (the default) is Meta-World v3's
+// metaworld/evaluation.py::metalearning_evaluation, parameter by parameter:
+// meta_batch_size envs, meta_batch_size / T per held-out task (T tasks);
+// task t's first total_tasks_per_cls variations (goals; all if 0) are dealt
+// to its envs in turn (env j gets variations j, j + E, j + 2E, ..., as v3
+// splits a class's tasks tasks[j::E]; v3 also asserts an even split, which
+// its documented setup, 40 goals per ML10/ML45 test task, meets). num_evals rounds, each:
+//  1. every env picks its goal for the round from its own list
+//     (task_select: random, with replacement, or pseudorandom: through the
+//     list in a shuffled order, reshuffled at its end) and starts on it;
+//     the actor starts afresh (Actor::Initial, v3's agent.init());
+//  2. adaptation_steps times: every env starts a new episode, all envs
+//     step in lockstep, sampling, the actor seeing every step, until every
+//     env has ended adaptation_episodes episodes (an env that has may run
+//     on, as in v3's vector loop); then Actor::Adapt;
+//  3. evaluation (v3's evaluation(agent, envs, evaluation_episodes)):
+//     every env starts a new episode; episodes end at the first success
+//     (terminate_on_success) or the time limit, and the first
+//     evaluation_episodes episodes of each task to end, in the order they
+//     end (envs in index order within a step), are its episodes: its success
+//     rate and mean return for the round. Envs run on until every task has
+//     its episodes. Deterministic actions unless sample_evaluation.
+// Per task: the mean over rounds; overall: the mean over tasks. Before
+// adaptation: the first adaptation phase's first adaptation_episodes
+// episodes of every env. Env seeds: env i starts round r with
+// MixSeed(MixSeed(seed, r), i); later episodes go on with its streams.
+//
+// per_variation: for every test task and each of its variations, one trial
+// in one env:
 //  1. exploration_episodes episodes with the actor sampling (the
 //     exploration policy), the actor seeing every step's outcome;
 //  2. Actor::Adapt;
@@ -39,6 +67,17 @@ namespace manyworlds::experiments {
 inline constexpr uint64_t kMetaTestSeedStream = 0x6d657461;   // "meta"
 inline constexpr uint64_t kMetaTrainSeedStream = 0x6d747261;  // "mtra"
 
+// A held-out task's goals in metalearning_evaluation: its first
+// total_tasks_per_cls variations (all if 0), as v3's make_ml_envs takes
+// tasks[:total_tasks_per_cls].
+int64_t GoalsOf(const TaskSpec& task, const MetaTestConfig& config);
+
+// One line naming the protocol and its parameters, for tables and logs.
+std::string DescribeProtocol(const MetaTestConfig& config);
+// The protocol's parameters of a MetaTestResult::ToJson (one that names no
+// protocol, from before 2026-11-27, was per_variation).
+MetaTestConfig MetaTestConfigOf(const nlohmann::json& result);
+
 struct MetaTestTaskResult {
   std::string task;
   std::optional<double> success;      // evaluation episodes
@@ -73,8 +112,9 @@ struct MetaTestResult {
   std::vector<MetaTestEpisode> episodes;
 
   // {"step", "success_rate", "return", "pre_adaptation_success_rate",
-  //  "pre_adaptation_return", "trial_return", "exploration_episodes",
-  //  "evaluation_episodes", "trials_per_task",
+  //  "pre_adaptation_return", "trial_return", "protocol", the protocol's
+  //  parameters (MetaTestConfig's keys), "episodes_per_task" (evaluation
+  //  episodes per task in all),
   //  "per_task": {name: {"success", "return", "pre_adaptation_success",
   //                      "pre_adaptation_return", "trial_return"}}, "wall_s"}
   nlohmann::json ToJson() const;
@@ -97,11 +137,14 @@ class MetaTestProtocol : public EvaluationProtocol {
   EvalResult Run(agents::Actor& actor) override { return RunMetaTest(actor).AsEvalResult(); }
 
  private:
+  MetaTestResult RunPerVariation(agents::Actor& actor);
+  MetaTestResult RunMetalearningEvaluation(agents::Actor& actor);
+
   const TaskSet& tasks_;
   MetaTestConfig config_;
   EnvFacts facts_;
   uint64_t seed_;
-  int64_t slots_;  // envs in one wave
+  int64_t slots_;  // per_variation: envs per task in one wave; else envs per task
   std::unique_ptr<Collector> collector_;
 };
 

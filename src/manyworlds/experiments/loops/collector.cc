@@ -106,6 +106,23 @@ void Collector::BeginEpisodes(const std::function<EnvStart(int64_t env)>& start)
   }
 }
 
+void Collector::ResetEpisodes() {
+  exec_->Reset();
+  for (int64_t i = 0; i < num_envs_; ++i) tracker_.Restart(i);
+}
+
+void Collector::TerminateOnSuccess(bool on) {
+  if (on && facts_.success_index < 0) {
+    throw ConfigError("terminate_on_success: these envs report no success");
+  }
+  tracker_.EndAtSuccess(on);
+}
+
+void Collector::RestartSucceeded() {
+  for (const int64_t i : succeeded_) exec_->ResetEnv(static_cast<int>(i));
+  succeeded_.clear();
+}
+
 void Collector::StepEnvs(std::span<const float> policy_actions) {
   PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
   exec_->Step(env_actions_);

@@ -88,6 +88,13 @@ class Collector {
     int64_t variation = 0;
   };
   void BeginEpisodes(const std::function<EnvStart(int64_t env)>& start);
+  // Starts a new episode in every env on its current task variation, each
+  // env's random streams going on (a Gymnasium vector env's reset()).
+  void ResetEpisodes();
+  // With on, an episode also ends at its first success step (Meta-World's
+  // terminate_on_success): CountEpisodes reports it and the env starts its
+  // next episode at once, as auto-reset does after an ended episode.
+  void TerminateOnSuccess(bool on);
   // Current observations (num_envs x obs_dim); valid until the next Step.
   std::span<const float> observations() const { return exec_->env_obs(); }
   // Steps every env with one row of policy actions each (num_envs x
@@ -100,12 +107,21 @@ class Collector {
   void StepEnvs(std::span<const float> policy_actions);
   template <class OnEnd>
   void CountEpisodes(OnEnd&& on_end) {
-    tracker_.Step(exec_->rewards(), exec_->terminated(), exec_->truncated(), exec_->info(), on_end);
+    const auto terminated = exec_->terminated();
+    const auto truncated = exec_->truncated();
+    tracker_.Step(exec_->rewards(), terminated, truncated, exec_->info(),
+                  [&](const EpisodeRecord& r) {
+                    on_end(r);
+                    // ended at success: the executor did not reset it
+                    if (!terminated[r.env] && !truncated[r.env]) succeeded_.push_back(r.env);
+                  });
+    RestartSucceeded();
   }
 
  private:
   Collector(const TaskSet& tasks, std::vector<std::unique_ptr<Env>> envs,
             const EnvFacts* facts, int64_t envs_per_task, int num_threads);
+  void RestartSucceeded();
 
   const TaskSet& tasks_;
   EnvFacts facts_;
@@ -115,6 +131,7 @@ class Collector {
   std::vector<int64_t> env_variations_;
   std::unique_ptr<BatchedExecutor> exec_;
   EpisodeTracker tracker_;
+  std::vector<int64_t> succeeded_;  // envs whose episode ended at success this step
   std::vector<float> env_actions_;
 };
 

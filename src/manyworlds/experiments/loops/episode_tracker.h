@@ -26,14 +26,18 @@ class EpisodeTracker {
 
   // Forgets env i's running episode (it starts a new one).
   void Restart(int64_t env);
+  // With on, an episode also ends at its first success step (Meta-World's
+  // terminate_on_success).
+  void EndAtSuccess(bool on) { end_at_success_ = on; }
   // Accounts one step of every env; calls on_end(record) for each env whose
-  // episode ended (terminated or truncated), in env order, then restarts it.
+  // episode ended (terminated, truncated, or at success with EndAtSuccess),
+  // in env order, then restarts it.
   template <class OnEnd>
   void Step(std::span<const float> rewards, std::span<const bool> terminated,
             std::span<const bool> truncated, std::span<const float> info, OnEnd&& on_end) {
     for (int64_t i = 0; i < static_cast<int64_t>(returns_.size()); ++i) {
       Accumulate(i, rewards[i], info);
-      if (terminated[i] || truncated[i]) {
+      if (terminated[i] || truncated[i] || (end_at_success_ && successes_[i] != 0)) {
         on_end(EpisodeRecord{i, returns_[i], lengths_[i], successes_[i] != 0});
         Restart(i);
       }
@@ -46,6 +50,7 @@ class EpisodeTracker {
 
   int64_t info_size_;
   int success_index_;
+  bool end_at_success_ = false;
   std::vector<double> returns_;
   std::vector<int64_t> lengths_;
   std::vector<char> successes_;
