@@ -14,6 +14,7 @@
 #include "manyworlds/core/env.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
+#include "manyworlds/experiments/evaluation/evaluator.h"
 #include "manyworlds/experiments/evaluation/meta_test_protocol.h"
 #include "manyworlds/experiments/train_config.h"
 
@@ -213,6 +214,26 @@ TEST(MetalearningEvaluationTest, BadSetupsAreConfigErrorsThatSayWhatIsAllowed) {
   old["meta_test"].erase("protocol");
   EXPECT_TRUE(TrainConfig::FromJson(old).meta_test.per_variation());
   EXPECT_FALSE(TrainConfig().meta_test.per_variation());
+}
+
+// v3's multi-task evaluation: episodes end at the first success when asked.
+TEST(EvaluationTest, EpisodesEndAtSuccessWhenAsked) {
+  const Registry registry = TimerRegistry();
+  const TaskSet tasks = OneTask({3, 0});  // episode e runs on goal e mod 2
+  const auto zeros = [](const torch::Tensor& obs, const torch::Tensor&) {
+    return torch::zeros({obs.size(0), 1});
+  };
+  Evaluator full(tasks, registry, /*episodes_per_task=*/4, /*seed=*/1, 1);
+  const EvalResult r = full.Run(zeros);
+  EXPECT_EQ(*r.mean_success, 0.5);
+  EXPECT_EQ(r.mean_return, 10.0);
+  Evaluator v3(tasks, registry, 4, 1, 1);
+  v3.TerminateOnSuccess(true);
+  const EvalResult e = v3.Run(zeros);
+  EXPECT_EQ(*e.mean_success, 0.5);  // the same successes
+  EXPECT_EQ(e.mean_return, (3.0 + 10.0) / 2);  // the successful episodes end at step 3
+  EXPECT_EQ(e.per_task[0].episodes[0].length, 3);
+  EXPECT_EQ(e.per_task[0].episodes[1].length, 10);
 }
 
 }  // namespace

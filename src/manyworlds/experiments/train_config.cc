@@ -161,6 +161,7 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
     r.Read("batch_size", e.batch_size);
     r.Read("eval_every", e.eval_every);
     r.Read("eval_episodes", e.eval_episodes);
+    r.Read("eval_terminate_on_success", e.eval_terminate_on_success);
     r.Read("num_threads", e.num_threads);
     r.Read("checkpoint_every", e.checkpoint_every);
     r.Read("keep_checkpoints", e.keep_checkpoints);
@@ -232,6 +233,7 @@ nlohmann::json TrainConfig::ToJson() const {
         {"batch_size", experiment.batch_size},
         {"eval_every", experiment.eval_every},
         {"eval_episodes", experiment.eval_episodes},
+        {"eval_terminate_on_success", experiment.eval_terminate_on_success},
         {"num_threads", experiment.num_threads},
         {"checkpoint_every", experiment.checkpoint_every},
         {"keep_checkpoints", experiment.keep_checkpoints},

@@ -57,11 +57,16 @@
 //                              # pearl: collection with prior z only, no updates
 //     updates_per_step: 1.0    # off-policy: gradient updates per loop step (all envs)
 //     batch_size: 0            # off-policy: transitions per update; 0 = agent.batch_size x
-//     num_tasks eval_every: 10000        # env steps per task; 0 = only at the end eval_episodes:
-//     10        # per task num_threads: 1           # executor worker threads checkpoint_every:
-//     50000  # env steps per task; 0 = only at the end keep_checkpoints: 1      # newest
-//     checkpoints kept (0 = all) run_dir: runs/train init_from: ""            # a checkpoint
-//     directory whose learner a new run
+//                              # num_tasks
+//     eval_every: 10000        # env steps per task; 0 = only at the end
+//     eval_episodes: 10        # per task (Meta-World v3's evaluation: 50)
+//     eval_terminate_on_success: false  # evaluation episodes end at the first
+//                              # success (v3's evaluation; the Meta-World configs set it)
+//     num_threads: 1           # executor worker threads
+//     checkpoint_every: 50000  # env steps per task; 0 = only at the end
+//     keep_checkpoints: 1      # newest checkpoints kept (0 = all)
+//     run_dir: runs/train
+//     init_from: ""            # a checkpoint directory whose learner a new run
 //                              # starts from (fine-tuning); same algorithm and
 //                              # network sizes; "" = fresh networks
 //
@@ -106,6 +111,7 @@ struct ExperimentSectionConfig {
   int64_t batch_size = 0;
   int64_t eval_every = 10000;
   int64_t eval_episodes = 10;
+  bool eval_terminate_on_success = false;
   int num_threads = 1;
   int64_t checkpoint_every = 50000;
   int64_t keep_checkpoints = 1;

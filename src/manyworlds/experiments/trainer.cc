@@ -145,6 +145,7 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
   evaluator = std::make_unique<Evaluator>(tasks, registry, config.experiment.eval_episodes,
                                           MixSeed(config.experiment.seed, kEvalSeedStream),
                                           config.experiment.num_threads, &facts);
+  evaluator->TerminateOnSuccess(config.experiment.eval_terminate_on_success);
   if (eval_tasks) {
     meta_test =
         std::make_unique<MetaTestProtocol>(*eval_tasks, registry, config.meta_test,

@@ -72,6 +72,7 @@ EvalResult EvaluateCheckpoint(const RunInfo& run, const fs::path& checkpoint, in
   Evaluator evaluator(run.tasks, registry, episodes,
                       seed ? *seed : MixSeed(run.config.experiment.seed, kEvalSeedStream),
                       run.config.experiment.num_threads);
+  evaluator.TerminateOnSuccess(run.config.experiment.eval_terminate_on_success);
   std::unique_ptr<Algorithm> algorithm = BuildAlgorithm(run.config, run.tasks, evaluator.facts());
   algorithm->LoadPolicy(checkpoint);
   EvalResult result = evaluator.Run(algorithm->actor());

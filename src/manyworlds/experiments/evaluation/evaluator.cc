@@ -55,6 +55,10 @@ Evaluator::Evaluator(const TaskSet& tasks, const Registry& registry, int64_t epi
 
 Evaluator::~Evaluator() = default;
 
+void Evaluator::TerminateOnSuccess(bool on) {
+  collector_->TerminateOnSuccess(on && facts_.success_index >= 0);
+}
+
 EvalResult Evaluator::Run(const PolicyFn& policy) { return RunEpisodes(policy, [] {}); }
 
 EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,

@@ -97,6 +97,9 @@ class Evaluator : public EvaluationProtocol {
   EvalResult Run(agents::Actor& actor) override;
 
   int64_t episodes_per_task() const { return episodes_; }
+  // With on, episodes end at the first success (Meta-World v3's evaluation
+  // toggles terminate_on_success); envs without a success field ignore it.
+  void TerminateOnSuccess(bool on);
   const EnvFacts& facts() const { return facts_; }
 
  private:
