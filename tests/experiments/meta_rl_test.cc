@@ -154,11 +154,16 @@ TEST(MetaRlLearningTest, PearlPosteriorFindsHiddenPointNavigationGoals) {
   // episodes with z from the prior, then z from the posterior of their
   // transitions for 2 evaluation episodes
   const fs::path dir = Scratch("pearl_nav");
-  const TrainSummary summary = TrainFromConfig("point_nav_pearl.yaml", dir);
+  // half the shipped budget (40 iterations): the suite's longest test, halved
+  const TrainSummary summary = TrainFromConfig(
+      "point_nav_pearl.yaml", dir,
+      {"experiment.steps_per_task=3200", "experiment.eval_every=3200",
+       "experiment.checkpoint_every=3200"});
   ASSERT_TRUE(summary.finished);
   ASSERT_TRUE(summary.final_meta_test.has_value());
   const nlohmann::json& m = *summary.final_meta_test;
-  // measured: return -8.63 with the prior, -5.53 with the posterior
+  // measured (2026-11-27, half budget): return -8.59 with the prior, -6.18 with
+  // the posterior (the full budget: -8.63 and -5.53)
   EXPECT_GT(m["return"].get<double>(), m["pre_adaptation_return"].get<double>() + 1.5) << m;
   // on training tasks too: episodes with z from the posterior beat the prior's
   const std::vector<nlohmann::json> rows = ReadJsonLines(dir / "metrics.jsonl");
@@ -167,6 +172,7 @@ TEST(MetaRlLearningTest, PearlPosteriorFindsHiddenPointNavigationGoals) {
     prior += rows[i]["train_return_prior"].get<double>() / 20;
     posterior += rows[i]["train_return_posterior"].get<double>() / 20;
   }
+  // measured (half budget): prior -8.60, posterior -6.44
   EXPECT_GT(posterior, prior + 1.5) << "prior " << prior << ", posterior " << posterior;
 }
 
