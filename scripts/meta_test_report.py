@@ -67,6 +67,14 @@ def fmt(v, digits=2):
     return "n/a" if rr._num(v) is None else f"{v:.{digits}f}"
 
 
+def episodes_label(test):
+    """Episodes before + after adaptation, as the test's protocol counts them."""
+    if test.get("protocol", "per_variation") == "metalearning_evaluation":
+        return (f"{test.get('adaptation_episodes', '?')} per env + "
+                f"{test.get('evaluation_episodes', '?')} per task, {test.get('num_evals', '?')} rounds")
+    return f"{test.get('exploration_episodes', '?')} + {test.get('evaluation_episodes', '?')}"
+
+
 def report_md(runs, title, has_success):
     out = [f"## {title}", "", "![return before and after adaptation](meta_test_return.svg)", ""]
     if has_success:
@@ -77,7 +85,7 @@ def report_md(runs, title, has_success):
         rows.append([f"`{r['label']}`", r["algo"] or "n/a", r["seed"] or "n/a", f"{t['step']:,}",
                      fmt(t.get("pre_adaptation_return")), fmt(t.get("return")),
                      fmt(t.get("pre_adaptation_success_rate")), fmt(t.get("success_rate")),
-                     f"{t.get('exploration_episodes', '?')} + {t.get('evaluation_episodes', '?')}"])
+                     episodes_label(t)])
     out += rr.md_table(["run", "algo", "seed", "step", "return before", "return after",
                         "success before", "success after", "episodes (explore + evaluate)"],
                        rows, left=3)
