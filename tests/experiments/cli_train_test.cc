@@ -387,6 +387,23 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
                    summary["final_meta_train"]["trial_return"].get<double>());
   EXPECT_NE(train["trial_return"], json["trial_return"]);
   EXPECT_TRUE(fs::exists(dir / "runs" / "rl2" / "meta_train.jsonl"));
+  // the protocol's parameters on the command line: fewer trials give other numbers
+  r = RunCli("eval runs/rl2 --protocol meta-test --trials-per-task 5 --json", dir);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["meta_test"]["trials_per_task"], 5);
+  for (const char* bad : {"--protocol meta-test --num-evals abc",
+                          "--protocol meta-test --meta-protocol v3", "--num-evals 2"}) {
+    r = RunCli(std::string("eval runs/rl2 ") + bad, dir);
+    EXPECT_EQ(r.exit_code, 2) << bad;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << bad << ": " << r.err;
+  }
+  // eval --help names v3's parameters
+  r = RunCli("eval --help", dir);
+  for (const char* option : {"--num-evals", "--adaptation-steps", "--adaptation-episodes",
+                             "--evaluation-episodes", "--meta-batch-size", "--total-tasks-per-cls",
+                             "--task-select", "--terminate-on-success", "metalearning_evaluation"}) {
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  }
   r = RunCli("baselines bandit runs/rl2 --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const auto baselines = nlohmann::json::parse(r.out);
