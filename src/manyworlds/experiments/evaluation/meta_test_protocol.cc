@@ -158,6 +158,22 @@ nlohmann::json MetaTestResult::ToJson() const {
   return out;
 }
 
+void MetaTestResult::AverageTasks(bool has_success, bool has_pre_adaptation) {
+  const double n = static_cast<double>(per_task.size());
+  double success_sum = 0.0, pre_success_sum = 0.0;
+  for (const MetaTestTaskResult& r : per_task) {
+    mean_return += r.mean_return / n;
+    pre_adaptation_return += r.pre_mean_return / n;
+    trial_return += r.trial_return / n;
+    success_sum += r.success.value_or(0.0);
+    pre_success_sum += r.pre_success.value_or(0.0);
+  }
+  if (has_success) {
+    success_rate = success_sum / n;
+    if (has_pre_adaptation) pre_adaptation_success_rate = pre_success_sum / n;
+  }
+}
+
 EvalResult MetaTestResult::AsEvalResult() const {
   EvalResult r;
   r.step = step;
@@ -307,7 +323,6 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
 
   MetaTestResult result;
   result.config = config_;
-  double success_sum = 0.0, pre_success_sum = 0.0;
   for (int64_t t = 0; t < num_tasks; ++t) {
     const PhaseTotals& pre = totals[0][t];
     const PhaseTotals& post = totals[1][t];
@@ -320,19 +335,9 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
       if (has_success) r.pre_success = pre.successes / pre.episodes;
     }
     r.trial_return = (pre.returns + post.returns) / config_.trials_per_task;
-    result.mean_return += r.mean_return / num_tasks;
-    result.pre_adaptation_return += r.pre_mean_return / num_tasks;
-    result.trial_return += r.trial_return / num_tasks;
-    success_sum += r.success.value_or(0.0);
-    pre_success_sum += r.pre_success.value_or(0.0);
     result.per_task.push_back(std::move(r));
   }
-  if (has_success) {
-    result.success_rate = success_sum / num_tasks;
-    if (config_.exploration_episodes > 0) {
-      result.pre_adaptation_success_rate = pre_success_sum / num_tasks;
-    }
-  }
+  result.AverageTasks(has_success, config_.exploration_episodes > 0);
   result.episodes = std::move(episodes);
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

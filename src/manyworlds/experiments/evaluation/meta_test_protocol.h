@@ -120,6 +120,10 @@ struct MetaTestResult {
   nlohmann::json ToJson() const;
   // The evaluation episodes as a multi-task result (the trainer's tables).
   EvalResult AsEvalResult() const;
+  // Sets the means over per_task's tasks: returns always, success rates
+  // where the envs report success, the pre-adaptation one where episodes
+  // ran before adaptation.
+  void AverageTasks(bool has_success, bool has_pre_adaptation);
 };
 
 class MetaTestProtocol : public EvaluationProtocol {

@@ -172,7 +172,6 @@ MetaTestResult MetaTestProtocol::RunMetalearningEvaluation(agents::Actor& actor)
 
   MetaTestResult result;
   result.config = config_;
-  double success_total = 0.0, pre_success_total = 0.0;
   const double rounds = static_cast<double>(config_.num_evals);
   for (int64_t t = 0; t < num_tasks; ++t) {
     MetaTestTaskResult r;
@@ -184,17 +183,9 @@ MetaTestResult MetaTestProtocol::RunMetalearningEvaluation(agents::Actor& actor)
     // an env's adaptation episodes and its task's evaluation episodes
     r.trial_return = r.pre_mean_return * static_cast<double>(config_.adaptation_episodes) +
                      r.mean_return * static_cast<double>(config_.evaluation_episodes);
-    result.mean_return += r.mean_return / num_tasks;
-    result.pre_adaptation_return += r.pre_mean_return / num_tasks;
-    result.trial_return += r.trial_return / num_tasks;
-    success_total += r.success.value_or(0.0);
-    pre_success_total += r.pre_success.value_or(0.0);
     result.per_task.push_back(std::move(r));
   }
-  if (has_success) {
-    result.success_rate = success_total / num_tasks;
-    result.pre_adaptation_success_rate = pre_success_total / num_tasks;
-  }
+  result.AverageTasks(has_success, /*has_pre_adaptation=*/true);
   result.episodes = std::move(episodes);
   result.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
