@@ -215,22 +215,21 @@ struct EvalArgs {
 };
 
 // The meta-test protocol's parameters eval takes, with v3's names
-// (metaworld/evaluation.py), and what each is.
+// (metaworld/evaluation.py), and what each is (the help names the protocol
+// a key belongs to, MetaTestConfig::ProtocolOf).
 const std::vector<std::pair<std::string, std::string>>& MetaTestOptions() {
   static const std::vector<std::pair<std::string, std::string>> options = {
       {"meta_protocol", "metalearning_evaluation (Meta-World v3's) or per_variation"},
-      {"num_evals", "metalearning_evaluation: rounds, each on newly sampled goals"},
-      {"adaptation_steps", "metalearning_evaluation: adaptation phases per round"},
-      {"adaptation_episodes", "metalearning_evaluation: episodes per env and adaptation phase"},
-      {"evaluation_episodes",
-       "episodes after adaptation per task (per_variation: per trial)"},
-      {"meta_batch_size", "metalearning_evaluation: envs, split evenly between the tasks"},
-      {"total_tasks_per_cls", "metalearning_evaluation: goals per task, its first N (0: all)"},
-      {"task_select", "metalearning_evaluation: random or pseudorandom goal per env and round"},
-      {"terminate_on_success",
-       "metalearning_evaluation: evaluation episodes end at success (true/false)"},
-      {"exploration_episodes", "per_variation: episodes per trial before adaptation"},
-      {"trials_per_task", "per_variation: variations tried per task"},
+      {"num_evals", "rounds, each on newly sampled goals"},
+      {"adaptation_steps", "adaptation phases per round"},
+      {"adaptation_episodes", "episodes per env and adaptation phase"},
+      {"evaluation_episodes", "episodes after adaptation per task (per_variation: per trial)"},
+      {"meta_batch_size", "envs, split evenly between the tasks"},
+      {"total_tasks_per_cls", "goals per task, its first N (0: all)"},
+      {"task_select", "random or pseudorandom goal per env and round"},
+      {"terminate_on_success", "evaluation episodes end at success (true/false)"},
+      {"exploration_episodes", "episodes per trial before adaptation"},
+      {"trials_per_task", "variations tried per task"},
       {"sample_evaluation", "evaluation episodes sample instead of the mode (true/false)"},
   };
   return options;
@@ -494,8 +493,10 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
       ->check(CLI::IsMember({"multi-task", "meta-test", "meta-train"}))
       ->capture_default_str();
   for (const auto& [key, help] : MetaTestOptions()) {
+    const std::string_view owner = experiments::MetaTestConfig::ProtocolOf(key);
     cmd->add_option("--" + Dashed(key), args->meta_test[key],
-                    help + " (default: the run's meta_test." +
+                    (owner.empty() ? "" : std::string(owner) + ": ") + help +
+                        " (default: the run's meta_test." +
                         (key == "meta_protocol" ? std::string("protocol") : key) + ")");
   }
   cmd->add_flag("--json", args->json,

@@ -89,56 +89,53 @@ class RNNBasedMetaRLWrapper(gym.Wrapper):
         return np.concatenate([obs, np.zeros(self.env.action_space.shape), [0.0], [0.0]]), info
 
 
-class RandomTaskSelectWrapper(gym.Wrapper):
-    """Sets a task drawn at random from ``tasks`` at every reset (``sample_tasks_on_reset``)."""
+class _TaskSelectWrapper(gym.Wrapper):
+    """Sets the task ``_next_task()`` picks on ``sample_tasks`` and, while
+    ``sample_tasks_on_reset`` is on, at every reset (v3's task-select wrappers)."""
 
-    def __init__(self, env: gym.Env, tasks: List[Any], sample_tasks_on_reset: bool = True):
-        super().__init__(env)
-        self.tasks = tasks
-        self.sample_tasks_on_reset = sample_tasks_on_reset
-
-    def _set_random_task(self) -> None:
-        self.unwrapped.set_task(self.tasks[self.np_random.choice(len(self.tasks))])
-
-    def toggle_sample_tasks_on_reset(self, on: bool) -> None:
-        self.sample_tasks_on_reset = on
-
-    def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
-        if self.sample_tasks_on_reset:
-            self._set_random_task()
-        return self.env.reset(seed=seed, options=options)
-
-    def sample_tasks(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
-        self._set_random_task()
-        return self.env.reset(seed=seed, options=options)
-
-
-class PseudoRandomTaskSelectWrapper(gym.Wrapper):
-    """Cycles through ``tasks``, reshuffled at every wrap-around; by default only on ``sample_tasks``."""
-
-    def __init__(self, env: gym.Env, tasks: List[Any], sample_tasks_on_reset: bool = False):
+    def __init__(self, env: gym.Env, tasks: List[Any], sample_tasks_on_reset: bool):
         super().__init__(env)
         self.tasks = list(tasks)
         self.sample_tasks_on_reset = sample_tasks_on_reset
-        self.current_task_idx = -1
 
-    def _set_pseudo_random_task(self) -> None:
-        self.current_task_idx = (self.current_task_idx + 1) % len(self.tasks)
-        if self.current_task_idx == 0:
-            self.np_random.shuffle(self.tasks)
-        self.unwrapped.set_task(self.tasks[self.current_task_idx])
+    def _next_task(self) -> Any:
+        raise NotImplementedError
 
     def toggle_sample_tasks_on_reset(self, on: bool) -> None:
         self.sample_tasks_on_reset = on
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         if self.sample_tasks_on_reset:
-            self._set_pseudo_random_task()
+            self.unwrapped.set_task(self._next_task())
         return self.env.reset(seed=seed, options=options)
 
     def sample_tasks(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
-        self._set_pseudo_random_task()
+        self.unwrapped.set_task(self._next_task())
         return self.env.reset(seed=seed, options=options)
+
+
+class RandomTaskSelectWrapper(_TaskSelectWrapper):
+    """Sets a task drawn at random from ``tasks`` at every reset (``sample_tasks_on_reset``)."""
+
+    def __init__(self, env: gym.Env, tasks: List[Any], sample_tasks_on_reset: bool = True):
+        super().__init__(env, tasks, sample_tasks_on_reset)
+
+    def _next_task(self) -> Any:
+        return self.tasks[self.np_random.choice(len(self.tasks))]
+
+
+class PseudoRandomTaskSelectWrapper(_TaskSelectWrapper):
+    """Cycles through ``tasks``, reshuffled at every wrap-around; by default only on ``sample_tasks``."""
+
+    def __init__(self, env: gym.Env, tasks: List[Any], sample_tasks_on_reset: bool = False):
+        super().__init__(env, tasks, sample_tasks_on_reset)
+        self.current_task_idx = -1
+
+    def _next_task(self) -> Any:
+        self.current_task_idx = (self.current_task_idx + 1) % len(self.tasks)
+        if self.current_task_idx == 0:
+            self.np_random.shuffle(self.tasks)
+        return self.tasks[self.current_task_idx]
 
 
 class AutoTerminateOnSuccessWrapper(gym.Wrapper):

@@ -60,20 +60,13 @@ void CheckMetaTestKeys(const nlohmann::json& file, const std::vector<std::string
   for (const std::string& o : overrides) {
     if (o.rfind("meta_test.", 0) == 0) set.push_back(o.substr(10, o.find('=') - 10));
   }
-  const std::vector<std::string> per_variation_only = {"exploration_episodes", "trials_per_task"};
-  const std::vector<std::string> v3_only = {
-      "num_evals",   "adaptation_steps",    "adaptation_episodes", "meta_batch_size",
-      "task_select", "terminate_on_success", "total_tasks_per_cls"};
-  const auto& foreign = meta_test.per_variation() ? v3_only : per_variation_only;
   const nlohmann::json defaults = MetaTestJson(MetaTestConfig{});
   const nlohmann::json chosen = MetaTestJson(meta_test);
   for (const std::string& key : set) {
-    if (std::find(foreign.begin(), foreign.end(), key) != foreign.end() &&
-        chosen[key] != defaults[key]) {
+    const std::string_view owner = MetaTestConfig::ProtocolOf(key);
+    if (!owner.empty() && owner != meta_test.protocol && chosen[key] != defaults[key]) {
       throw ConfigError("'meta_test." + key + "' is not a key of the " + meta_test.protocol +
-                        " protocol; set meta_test.protocol to " +
-                        (meta_test.per_variation() ? std::string(kMetalearningEvaluation)
-                                                   : std::string(kPerVariation)) +
+                        " protocol; set meta_test.protocol to " + std::string(owner) +
                         " to use it");
     }
   }

@@ -88,6 +88,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "manyworlds/core/error.h"
@@ -150,6 +151,17 @@ struct MetaTestConfig {
                             sample_evaluation);
   }
   bool per_variation() const { return protocol == kPerVariation; }
+  // The protocol a key belongs to (kMetalearningEvaluation or kPerVariation),
+  // or "" for a key both protocols use: the one list of which is whose.
+  static std::string_view ProtocolOf(std::string_view key) {
+    for (std::string_view k : {"num_evals", "adaptation_steps", "adaptation_episodes",
+                               "meta_batch_size", "total_tasks_per_cls", "task_select",
+                               "terminate_on_success"}) {
+      if (k == key) return kMetalearningEvaluation;
+    }
+    if (key == "exploration_episodes" || key == "trials_per_task") return kPerVariation;
+    return {};
+  }
   // Throws ConfigError naming the field (prefix "meta_test.").
   void Validate() const;
 };

@@ -52,9 +52,12 @@ struct PhaseTotals {
 }  // namespace
 
 void MetaTestConfig::Validate() const {
-  auto fail = [](const char* field, const char* allowed, int64_t value) {
+  auto in_range = [](const char* field, int64_t value, int64_t low, int64_t high,
+                     const char* note = "") {
+    if (value >= low && value <= high) return;
     std::ostringstream msg;
-    msg << "'meta_test." << field << "' must be " << allowed << ", got " << value;
+    msg << "'meta_test." << field << "' must be in [" << low << ", " << high << "]" << note
+        << ", got " << value;
     throw ConfigError(msg.str());
   };
   if (protocol != kMetalearningEvaluation && protocol != kPerVariation) {
@@ -65,28 +68,14 @@ void MetaTestConfig::Validate() const {
     throw ConfigError("'meta_test.task_select' must be one of random, pseudorandom; got '" +
                       task_select + "'");
   }
-  if (num_evals < 1 || num_evals > 100000) fail("num_evals", "in [1, 100000]", num_evals);
-  if (adaptation_steps < 1 || adaptation_steps > 1000) {
-    fail("adaptation_steps", "in [1, 1000]", adaptation_steps);
-  }
-  if (adaptation_episodes < 1 || adaptation_episodes > 10000) {
-    fail("adaptation_episodes", "in [1, 10000]", adaptation_episodes);
-  }
-  if (meta_batch_size < 1 || meta_batch_size > 4096) {
-    fail("meta_batch_size", "in [1, 4096]", meta_batch_size);
-  }
-  if (total_tasks_per_cls < 0 || total_tasks_per_cls > 1000000) {
-    fail("total_tasks_per_cls", "in [0, 1000000] (0: every variation)", total_tasks_per_cls);
-  }
-  if (exploration_episodes < 0 || exploration_episodes > 10000) {
-    fail("exploration_episodes", "in [0, 10000]", exploration_episodes);
-  }
-  if (evaluation_episodes < 1 || evaluation_episodes > 10000) {
-    fail("evaluation_episodes", "in [1, 10000]", evaluation_episodes);
-  }
-  if (trials_per_task < 1 || trials_per_task > 100000) {
-    fail("trials_per_task", "in [1, 100000]", trials_per_task);
-  }
+  in_range("num_evals", num_evals, 1, 100000);
+  in_range("adaptation_steps", adaptation_steps, 1, 1000);
+  in_range("adaptation_episodes", adaptation_episodes, 1, 10000);
+  in_range("meta_batch_size", meta_batch_size, 1, 4096);
+  in_range("total_tasks_per_cls", total_tasks_per_cls, 0, 1000000, " (0: every variation)");
+  in_range("exploration_episodes", exploration_episodes, 0, 10000);
+  in_range("evaluation_episodes", evaluation_episodes, 1, 10000);
+  in_range("trials_per_task", trials_per_task, 1, 100000);
 }
 
 int64_t GoalsOf(const TaskSpec& task, const MetaTestConfig& config) {
@@ -146,14 +135,9 @@ nlohmann::json MetaTestResult::ToJson() const {
       {"wall_s", wall_s}};
   // the protocol and its own parameters
   MetaTestConfig c = config;
-  const bool v3 = !c.per_variation();
-  c.VisitFields([&](const std::string& key, const auto& value) {
-    const bool per_variation_key = key == "exploration_episodes" || key == "trials_per_task";
-    const bool v3_key = key == "num_evals" || key == "adaptation_steps" ||
-                        key == "adaptation_episodes" || key == "meta_batch_size" ||
-                        key == "task_select" || key == "terminate_on_success" ||
-                        key == "total_tasks_per_cls";
-    if ((v3 && !per_variation_key) || (!v3 && !v3_key)) out[key] = value;
+  c.VisitFields([&](const char* key, const auto& value) {
+    const std::string_view owner = MetaTestConfig::ProtocolOf(key);
+    if (owner.empty() || owner == c.protocol) out[key] = value;
   });
   return out;
 }

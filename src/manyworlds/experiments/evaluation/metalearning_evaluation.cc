@@ -95,11 +95,12 @@ MetaTestResult MetaTestProtocol::RunMetalearningEvaluation(agents::Actor& actor)
     // obs views the executor's buffer, which the step overwrites
     const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
     collector_->StepEnvs({action.data_ptr<float>(), static_cast<size_t>(action.numel())});
-    const auto rewards = exec.rewards();
-    for (int64_t i = 0; i < n; ++i) {
-      reward_out[i] = rewards[i];
-      ended_flags[i] = false;
+    if (observe) {
+      // before CountEpisodes, which resets the envs that ended at success
+      const auto rewards = exec.rewards();
+      std::copy(rewards.begin(), rewards.end(), reward_out);
     }
+    std::fill(ended_flags, ended_flags + n, false);
     bool any_ended = false;
     collector_->CountEpisodes([&](const EpisodeRecord& r) {
       ended_flags[r.env] = true;
