@@ -99,10 +99,16 @@ function(manyworlds_tests)
     # The labels are set by a script ctest reads after the discovered tests
     # (their names are known only then): gtest_discover_tests' PROPERTIES
     # cannot carry a list, so a second label would be lost there.
+    # Slow tests start first (a high COST; ctest replaces it by measured times once it has
+    # them): a long test started last would run alone while the other core idles.
+    set(cost "")
+    if("slow" IN_LIST labels)
+      set(cost " COST 1000")
+    endif()
     set(label_script ${CMAKE_CURRENT_BINARY_DIR}/${target}_labels.cmake)
     file(WRITE ${label_script}
          "if(${target}_TESTS)\n"
-         "  set_tests_properties(\${${target}_TESTS} PROPERTIES LABELS \"${labels}\")\n"
+         "  set_tests_properties(\${${target}_TESTS} PROPERTIES LABELS \"${labels}\"${cost})\n"
          "endif()\n")
     set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${label_script})
   endforeach()
