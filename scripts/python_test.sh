@@ -47,7 +47,9 @@ export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
 
 # The official Meta-World package for the fidelity tests, in a venv of its own: metaworld 3.1
 # needs gymnasium >= 1.1, Stable-Baselines3 2.4 < 1.1. Nothing of ours is installed there; the
-# tests run its recorder (python/tests/fidelity/metaworld_record.py) as a subprocess.
+# tests run its recorder (python/tests/fidelity/metaworld_record.py) as a subprocess, and the
+# protocol test (test_metaworld_protocols.py) runs v3's evaluation functions there with our
+# installed package put on its path.
 metaworld_venv=${MANYWORLDS_METAWORLD_VENV:-.venv-metaworld}
 if [ ! -x "$metaworld_venv/bin/python" ]; then
   "$python" -m venv "$metaworld_venv"

@@ -1,5 +1,6 @@
 // manyworlds train CONFIG.yaml [key=value ...] | --resume RUN_DIR
 // manyworlds eval RUN_DIR [--episodes N] [--checkpoint latest|step_N|DIR] [--json]
+// manyworlds eval CONFIG.yaml --policy scripted|random [--seed N] (the protocols, no run)
 // manyworlds rollout --policy checkpoint:RUN_DIR (RunCheckpointRollout)
 //
 // Training and evaluation of every registered algorithm (experiments/trainer.h). Results
@@ -25,6 +26,7 @@
 #include "manyworlds/config/override.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/algorithms.h"
+#include "manyworlds/experiments/evaluation/policy_actor.h"
 #include "manyworlds/experiments/run/checkpoint_integrity.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/nn/threads.h"
@@ -210,6 +212,9 @@ struct EvalArgs {
   int64_t episodes = 0;
   std::string protocol = "multi-task";
   bool json = false;
+  // an env policy (scripted, random) instead of a run: run_dir is then a config
+  std::string policy;
+  std::optional<uint64_t> seed;
   // meta_test keys the command line sets for this evaluation (empty: the run's)
   std::map<std::string, std::string> meta_test;
 };
@@ -235,21 +240,21 @@ const std::vector<std::pair<std::string, std::string>>& MetaTestOptions() {
   return options;
 }
 
-// The run with its meta_test section as the command line changes it.
-experiments::RunInfo WithMetaTestOptions(experiments::RunInfo run,
-                                         const std::map<std::string, std::string>& set) {
+// The config with its meta_test section as the command line changes it.
+experiments::TrainConfig WithMetaTestOptions(experiments::TrainConfig config,
+                                             const std::map<std::string, std::string>& set) {
   std::vector<std::string> overrides;
   for (const auto& [key, value] : set) {
     if (value.empty()) continue;
     overrides.push_back("meta_test." + (key == "meta_protocol" ? std::string("protocol") : key) +
                         "=" + value);
   }
-  if (overrides.empty()) return run;
-  nlohmann::json tree = run.config.ToJson();
+  if (overrides.empty()) return config;
+  nlohmann::json tree = config.ToJson();
   ApplyOverrides(tree, overrides);
-  run.config.meta_test = experiments::TrainConfig::FromJson(tree).meta_test;
-  run.config.meta_test.Validate();
-  return run;
+  config.meta_test = experiments::TrainConfig::FromJson(tree).meta_test;
+  config.meta_test.Validate();
+  return config;
 }
 
 
@@ -283,9 +288,42 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
                     (available.empty() ? "none" : available) + ", or 'latest')");
 }
 
+// eval CONFIG --policy scripted|random: the config's protocols driven by the
+// envs' own policies, no run needed.
+void RunPolicyEval(const EvalArgs& args) {
+  if (args.checkpoint != "latest") throw ConfigError("eval: --checkpoint needs a run, not --policy");
+  const experiments::TrainConfig config = WithMetaTestOptions(
+      experiments::TrainConfig::Load(fs::path(args.run_dir)), args.meta_test);
+  const uint64_t seed = args.seed ? *args.seed : config.experiment.seed;
+  if (args.protocol == "meta-test" || args.protocol == "meta-train") {
+    const bool test = args.protocol == "meta-test";
+    if (args.episodes > 0) {
+      throw ConfigError("eval: --episodes is for the multi-task protocol; the " + args.protocol +
+                        " episodes are the config's meta_test section");
+    }
+    const nlohmann::json result =
+        experiments::MetaTestEnvPolicy(config, args.policy, seed, !test).ToJson();
+    if (args.json) {
+      PrintJson({{"policy", args.policy}, {test ? "meta_test" : "meta_train", result}});
+      return;
+    }
+    std::cout << "policy " << args.policy << "\n";
+    PrintMetaTestTable(result, std::cout, args.protocol);
+    return;
+  }
+  const int64_t episodes = args.episodes > 0 ? args.episodes : config.experiment.eval_episodes;
+  const EvalResult result = experiments::EvaluateEnvPolicy(config, args.policy, episodes, seed);
+  if (args.json) {
+    nlohmann::json json = result.ToJson();
+    json["policy"] = args.policy;
+    PrintJson(json);
+    return;
+  }
+  std::cout << "policy " << args.policy << ", " << episodes << " episodes per task\n";
+  PrintEvalTable(result, std::cout);
+}
+
 void RunEval(const EvalArgs& args, const CommandContext& context) {
-  const experiments::RunInfo run =
-      WithMetaTestOptions(experiments::RunInfo::Read(args.run_dir), args.meta_test);
   const bool meta = args.protocol == "meta-test" || args.protocol == "meta-train";
   for (const auto& [key, value] : args.meta_test) {
     if (!value.empty() && !meta) {
@@ -293,6 +331,13 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
                         "meta-train");
     }
   }
+  if (!args.policy.empty()) {
+    RunPolicyEval(args);
+    return;
+  }
+  if (args.seed) throw ConfigError("eval: --seed is for --policy (a run's protocols use its seed)");
+  experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
+  run.config = WithMetaTestOptions(run.config, args.meta_test);
   const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
   if (const auto warning = experiments::EvaluationThreadWarning(checkpoint)) {
     std::cerr << "warning: " << *warning << "\n";
@@ -479,7 +524,17 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
   CLI::App* cmd = app.add_subcommand(
       "eval", "Evaluate a saved run: per-task success rate and return, by the multi-task "
               "protocol or (--protocol meta-test|meta-train) the meta-test protocol");
-  cmd->add_option("run_dir", args->run_dir, "the run directory")->required();
+  cmd->add_option("run_dir", args->run_dir,
+                  "the run directory (with --policy: a training config, whose tasks and "
+                  "protocols are used)")
+      ->required();
+  cmd->add_option("--policy", args->policy,
+                  "evaluate an env policy instead of a run: scripted (each env's expert) or "
+                  "random (uniform actions, a stream per env); RUN_DIR is then a config file")
+      ->check(CLI::IsMember(experiments::EnvPolicyNames()));
+  cmd->add_option("--seed", args->seed,
+                  "with --policy: the protocol's and the random policy's seed (default: the "
+                  "config's experiment.seed)");
   cmd->add_option("--episodes", args->episodes,
                   "episodes per task (default: the run's experiment.eval_episodes)")
       ->check(AtLeastOne(1000000));

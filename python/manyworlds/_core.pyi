@@ -81,6 +81,18 @@ class Rng:
     def next_u64(self) -> int: ...
     def uniform(self) -> float: ...
 
+class Policy:
+    """An env's own policy: its scripted (expert) policy or uniform random actions."""
+
+    def begin_episode(self) -> None: ...
+    def act(self, env_obs: npt.ArrayLike) -> npt.NDArray[np.float32]: ...
+
+def scripted_policy(env: "Env") -> Policy:
+    """The env's scripted policy (ValueError for envs without one); acts for this env only."""
+
+def random_policy(env: "Env", seed: int) -> Policy:
+    """Uniform random actions from the env's action space, from a stream of ``seed``."""
+
 class Env:
     """One env from the default registry (use ``manyworlds.make`` for the Gymnasium env)."""
 

@@ -101,6 +101,63 @@ class EnvClasses(dict):
         return default if name is None else dict.__getitem__(self, name)
 
 
+# Meta-World v3's env class of each task (metaworld.env_dict.ALL_V3_ENVIRONMENTS), which v3's
+# evaluation functions read from an env's ``task_name`` to group episodes by task. Checked
+# against the official package by python/tests/test_metaworld_protocols.py.
+_V3_CLASS_NAMES = {
+    "assembly": "SawyerNutAssemblyEnvV3",
+    "basketball": "SawyerBasketballEnvV3",
+    "bin-picking": "SawyerBinPickingEnvV3",
+    "box-close": "SawyerBoxCloseEnvV3",
+    "button-press": "SawyerButtonPressEnvV3",
+    "button-press-topdown": "SawyerButtonPressTopdownEnvV3",
+    "button-press-topdown-wall": "SawyerButtonPressTopdownWallEnvV3",
+    "button-press-wall": "SawyerButtonPressWallEnvV3",
+    "coffee-button": "SawyerCoffeeButtonEnvV3",
+    "coffee-pull": "SawyerCoffeePullEnvV3",
+    "coffee-push": "SawyerCoffeePushEnvV3",
+    "dial-turn": "SawyerDialTurnEnvV3",
+    "disassemble": "SawyerNutDisassembleEnvV3",
+    "door-close": "SawyerDoorCloseEnvV3",
+    "door-lock": "SawyerDoorLockEnvV3",
+    "door-open": "SawyerDoorEnvV3",
+    "door-unlock": "SawyerDoorUnlockEnvV3",
+    "drawer-close": "SawyerDrawerCloseEnvV3",
+    "drawer-open": "SawyerDrawerOpenEnvV3",
+    "faucet-close": "SawyerFaucetCloseEnvV3",
+    "faucet-open": "SawyerFaucetOpenEnvV3",
+    "hammer": "SawyerHammerEnvV3",
+    "hand-insert": "SawyerHandInsertEnvV3",
+    "handle-press": "SawyerHandlePressEnvV3",
+    "handle-press-side": "SawyerHandlePressSideEnvV3",
+    "handle-pull": "SawyerHandlePullEnvV3",
+    "handle-pull-side": "SawyerHandlePullSideEnvV3",
+    "lever-pull": "SawyerLeverPullEnvV3",
+    "peg-insert-side": "SawyerPegInsertionSideEnvV3",
+    "peg-unplug-side": "SawyerPegUnplugSideEnvV3",
+    "pick-out-of-hole": "SawyerPickOutOfHoleEnvV3",
+    "pick-place": "SawyerPickPlaceEnvV3",
+    "pick-place-wall": "SawyerPickPlaceWallEnvV3",
+    "plate-slide": "SawyerPlateSlideEnvV3",
+    "plate-slide-back": "SawyerPlateSlideBackEnvV3",
+    "plate-slide-back-side": "SawyerPlateSlideBackSideEnvV3",
+    "plate-slide-side": "SawyerPlateSlideSideEnvV3",
+    "push": "SawyerPushEnvV3",
+    "push-back": "SawyerPushBackEnvV3",
+    "push-wall": "SawyerPushWallEnvV3",
+    "reach": "SawyerReachEnvV3",
+    "reach-wall": "SawyerReachWallEnvV3",
+    "shelf-place": "SawyerShelfPlaceEnvV3",
+    "soccer": "SawyerSoccerEnvV3",
+    "stick-pull": "SawyerStickPullEnvV3",
+    "stick-push": "SawyerStickPushEnvV3",
+    "sweep": "SawyerSweepEnvV3",
+    "sweep-into": "SawyerSweepIntoGoalEnvV3",
+    "window-close": "SawyerWindowCloseEnvV3",
+    "window-open": "SawyerWindowOpenEnvV3",
+}
+
+
 class SawyerEnv(ManyworldsEnv):
     """One manipulation task with Meta-World's single-task interface.
 
@@ -130,6 +187,11 @@ class SawyerEnv(ManyworldsEnv):
         if _base_name(task.env_name) != _base_name(self.TASK_NAME):
             raise ValueError(f"task of '{task.env_name}' given to an env of '{self.TASK_NAME}'")
         self.set_task_state(json.loads(task.data))
+
+    @property
+    def task_name(self) -> str:
+        """v3's env class name of this task (``"SawyerReachEnvV3"``), as v3's envs carry it."""
+        return _V3_CLASS_NAMES[_base_name(self.TASK_NAME)]
 
     @property
     def max_path_length(self) -> int:

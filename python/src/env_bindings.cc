@@ -10,6 +10,7 @@
 #include "bindings.h"
 #include "convert.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/policy.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
@@ -129,6 +130,22 @@ py::array_t<uint8_t> Render(PyEnv& self, const std::string& camera, int width, i
 #endif
 }
 
+// An env's own policy (core/policy.h), for agents that drive Python envs the
+// way PolicyActor drives the C++ protocols' envs.
+struct PyPolicy {
+  std::unique_ptr<Policy> policy;
+  int64_t obs_size = 0;
+  int64_t action_size = 0;
+};
+
+std::unique_ptr<PyPolicy> MakePyPolicy(PyEnv& env, std::unique_ptr<Policy> policy) {
+  auto out = std::make_unique<PyPolicy>();
+  out->policy = std::move(policy);
+  out->obs_size = env.get().spec().env_obs_space.flat_size();
+  out->action_size = env.get().spec().action_space.flat_size();
+  return out;
+}
+
 }  // namespace
 
 void BindEnv(py::module_& m) {
@@ -210,6 +227,36 @@ void BindEnv(py::module_& m) {
       .def("render", &Render, py::arg("camera") = "front", py::arg("width") = 640,
            py::arg("height") = 480,
            "Renders the current MuJoCo scene offscreen: uint8 array (height, width, 3).");
+
+  py::class_<PyPolicy>(m, "Policy",
+                       "An env's own policy: its scripted (expert) policy or uniform random "
+                       "actions (scripted_policy, random_policy).")
+      .def("begin_episode", [](PyPolicy& p) { p.policy->BeginEpisode(); },
+           "Call at the start of every episode.")
+      .def(
+          "act",
+          [](PyPolicy& p, const py::handle& env_obs) {
+            auto obs = FloatArray(env_obs, p.obs_size, "env_obs of a policy");
+            py::array_t<float> action(p.action_size);
+            p.policy->Act({obs.data(), static_cast<size_t>(obs.size())}, {},
+                          {action.mutable_data(), static_cast<size_t>(action.size())});
+            return action;
+          },
+          py::arg("env_obs"), "The action (float32, the env's units) for an env observation.");
+  m.def(
+      "scripted_policy",
+      [](PyEnv& env) { return MakePyPolicy(env, MakeScriptedPolicy(env.get())); },
+      py::arg("env"), py::keep_alive<0, 1>(),
+      "The env's scripted policy (the manipulation tasks and benchmarks, the box world; "
+      "ValueError for other envs). It reads the env's task, so it acts for this env only.");
+  m.def(
+      "random_policy",
+      [](PyEnv& env, uint64_t seed) {
+        return MakePyPolicy(env, std::make_unique<RandomPolicy>(env.get().spec().action_space, seed));
+      },
+      py::arg("env"), py::arg("seed"),
+      "Uniform random actions from the env's action space, from a stream of `seed` (the same "
+      "draws as the C++ protocols' random policy with that seed).");
 }
 
 }  // namespace manyworlds::python

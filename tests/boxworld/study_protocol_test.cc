@@ -75,9 +75,9 @@ TEST(StudyProtocolTest, SeedTaskRestartsTheGroupsAndTestLayoutsAreNotTrainingOne
   const auto b = Draw("box-world-simple", {{"targets_per_layout", 9}}, 0, 27);
   EXPECT_EQ(a, b);
   // the study's training worlds (seed 0, 20 layouts x 9) and test worlds
-  // (seed 1000, 4 layouts x 4) share no layout
+  // (seed 1000, 4 layouts x 9: 5 support + 4 query targets) share no layout
   const auto train = Draw("box-world-simple", {{"targets_per_layout", 9}}, 0, 180);
-  const auto test = Draw("box-world-simple", {{"targets_per_layout", 4}}, 1000, 16);
+  const auto test = Draw("box-world-simple", {{"targets_per_layout", 9}}, 1000, 36);
   std::set<std::pair<double, double>> train_starts;
   for (const auto& w : train) train_starts.insert({w.agent_start[0], w.agent_start[1]});
   EXPECT_EQ(train_starts.size(), 20u);

@@ -266,6 +266,52 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
 namespace manyworlds {
 namespace {
 
+// eval CONFIG --policy: a config's protocols scored with the envs' own policies.
+TEST(CliTrainTest, EvalScoresAConfigsProtocolsWithTheEnvsOwnPolicies) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "ml10.yaml") << "env: {id: ml10, options: {split: train}}\n"
+                                      "eval_env: {options: {split: test}}\n";
+  std::ofstream(dir / "mt10.yaml") << "env: {id: mt10, variations_per_task: 1}\n";
+  const std::string meta = " --protocol meta-test --meta-batch-size 5 --total-tasks-per-cls 1 "
+                           "--num-evals 1 --adaptation-episodes 1 --evaluation-episodes 1 --json";
+  const RunResult scripted = RunCli("eval ml10.yaml --policy scripted" + meta, dir);
+  ASSERT_EQ(scripted.exit_code, 0) << scripted.err;
+  const auto s = nlohmann::json::parse(scripted.out);
+  EXPECT_EQ(s["policy"], "scripted");
+  EXPECT_EQ(s["meta_test"]["success_rate"], 1.0) << scripted.out;  // the experts solve ML10
+  EXPECT_EQ(s["meta_test"]["per_task"].size(), 5u);
+  const RunResult random = RunCli("eval ml10.yaml --policy random --seed 4" + meta, dir);
+  ASSERT_EQ(random.exit_code, 0) << random.err;
+  const auto r = nlohmann::json::parse(random.out);
+  EXPECT_LT(r["meta_test"]["success_rate"].get<double>(), 0.5) << random.out;
+  // the same seed, the same episodes; the multi-task protocol on the training tasks
+  auto again = nlohmann::json::parse(RunCli("eval ml10.yaml --policy random --seed 4" + meta, dir).out);
+  again["meta_test"].erase("wall_s");
+  auto first = r;
+  first["meta_test"].erase("wall_s");
+  EXPECT_EQ(again, first);
+  const RunResult multi = RunCli("eval mt10.yaml --policy scripted --episodes 1 --json", dir);
+  ASSERT_EQ(multi.exit_code, 0) << multi.err;
+  EXPECT_EQ(nlohmann::json::parse(multi.out)["mean_success"], 1.0) << multi.out;
+  struct Case {
+    std::string args;
+    std::string needle;
+  };
+  const Case cases[] = {
+      {"eval ml10.yaml --policy expert", "scripted"},
+      {"eval runs/none --seed 3", "--seed is for --policy"},
+      {"eval mt10.yaml --policy scripted --protocol meta-test", "no eval_env"},
+      {"eval ml10.yaml --policy scripted --checkpoint step_1", "--checkpoint needs a run"},
+  };
+  for (const auto& c : cases) {
+    const RunResult bad = RunCli(c.args, dir);
+    EXPECT_EQ(bad.exit_code, 2) << c.args << "\n" << bad.err;
+    EXPECT_TRUE(IsOneErrorLine(bad.err)) << c.args << "\n" << bad.err;
+    EXPECT_NE(bad.err.find(c.needle), std::string::npos) << c.args << "\n" << bad.err;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(CliTrainTest, StudyHelpAndBadArgumentsGiveOneErrorLine) {
   const fs::path dir = ScratchDir();
   const RunResult help = RunCli("study boxworld --help", dir);

@@ -2,11 +2,14 @@
 // goal names, so every number the protocol reports can be worked out by
 // hand: Meta-World v3's metalearning_evaluation (which episodes count, in
 // which order, ending at success, goals dealt to envs, rounds averaged) and
-// its configuration errors.
+// its configuration errors; the support/query split (CS330's protocol) in
+// the per_variation meta-test, in training rounds and in the algorithms that
+// accept it.
 #include <gtest/gtest.h>
 #include <torch/torch.h>
 
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -15,7 +18,9 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/experiments/evaluation/evaluator.h"
+#include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/evaluation/meta_test_protocol.h"
+#include "manyworlds/experiments/loops/collector.h"
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
@@ -214,6 +219,140 @@ TEST(MetalearningEvaluationTest, BadSetupsAreConfigErrorsThatSayWhatIsAllowed) {
   old["meta_test"].erase("protocol");
   EXPECT_TRUE(TrainConfig::FromJson(old).meta_test.per_variation());
   EXPECT_FALSE(TrainConfig().meta_test.per_variation());
+}
+
+// Groups of 2 support + 2 query goals. Group 0: support never, query
+// succeeds at step 3 then never; group 1: support never, query succeeds at
+// steps 3 and 4.
+TaskSet SplitTask() {
+  TaskSet tasks = OneTask({0, 0, 3, 0, 0, 0, 3, 4});
+  tasks.support_variations = 2;
+  tasks.query_variations = 2;
+  return tasks;
+}
+
+MetaTestConfig PerVariation(int64_t trials, int64_t exploration, int64_t evaluation) {
+  MetaTestConfig c;
+  c.protocol = kPerVariation;
+  c.trials_per_task = trials;
+  c.exploration_episodes = exploration;
+  c.evaluation_episodes = evaluation;
+  return c;
+}
+
+TEST(SupportQuerySplitTest, PerVariationAdaptsOnSupportAndScoresQueryVariations) {
+  const Registry registry = TimerRegistry();
+  CountingActor actor;
+  const TaskSet tasks = SplitTask();  // the protocol keeps a reference
+  MetaTestProtocol split(tasks, registry, PerVariation(2, 2, 2), 5, 1);
+  const MetaTestResult r = split.RunMetaTest(actor);
+  // trial 0 runs group 0, trial 1 group 1: three of the four query episodes succeed
+  EXPECT_EQ(*r.success_rate, 0.75);
+  EXPECT_EQ(*r.pre_adaptation_success_rate, 0.0);  // support goals never succeed
+  EXPECT_EQ(actor.adapts, 1);
+  std::vector<int> evaluation_successes;
+  for (const MetaTestEpisode& e : r.episodes) {
+    if (e.evaluation) evaluation_successes.push_back(*e.success ? 1 : 0);
+  }
+  // group 0's query episodes in order (goal 3, then never), then group 1's
+  std::vector<int> order;
+  for (const MetaTestEpisode& e : r.episodes) {
+    if (e.evaluation && e.trial == 0) order.push_back(*e.success ? 1 : 0);
+  }
+  EXPECT_EQ(order, (std::vector<int>{1, 0}));
+  EXPECT_EQ(evaluation_successes.size(), 4u);
+
+  // without the split the same trials run variations 0 and 1, which never succeed
+  TaskSet no_split = SplitTask();
+  no_split.support_variations = no_split.query_variations = 0;
+  MetaTestProtocol plain(no_split, registry, PerVariation(2, 2, 2), 5, 1);
+  EXPECT_EQ(*plain.RunMetaTest(actor).success_rate, 0.0);
+
+  // v3's protocol has no split: refused with the way out
+  try {
+    MetaTestProtocol v3(tasks, registry, V3(1, 1), 5, 1);
+    FAIL() << "metalearning_evaluation accepted a support/query split";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("meta_test.protocol: per_variation"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(SupportQuerySplitTest, TrialRoundsRunSupportThenQueryVariationsOfOneGroup) {
+  const Registry registry = TimerRegistry();
+  TaskSet tasks = OneTask({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11});  // 3 groups of 2 + 2
+  tasks.support_variations = 2;
+  tasks.query_variations = 2;
+  Collector collector(tasks, registry, /*envs_per_task=*/4, 1);
+  std::set<int64_t> groups_seen, support_seen, query_seen;
+  for (int64_t trial = 0; trial < 8; ++trial) {
+    std::vector<int64_t> group(4, -1);
+    for (int64_t k = 0; k < 3; ++k) {  // 2 support rounds, then a query round
+      collector.BeginRound(/*seed=*/11, trial * 3 + k, /*rounds_per_trial=*/3,
+                           /*support_rounds=*/2);
+      for (int64_t i = 0; i < 4; ++i) {
+        const int64_t v = collector.env_variations()[i];
+        if (k == 0) group[i] = v / 4;
+        EXPECT_EQ(v / 4, group[i]) << "trial " << trial << " round " << k << " env " << i;
+        if (k < 2) {
+          EXPECT_LT(v % 4, 2) << "support round on a query variation";
+          support_seen.insert(v % 4);
+        } else {
+          EXPECT_GE(v % 4, 2) << "query round on a support variation";
+          query_seen.insert(v % 4);
+        }
+      }
+      groups_seen.insert(group.begin(), group.end());
+    }
+  }
+  EXPECT_EQ(groups_seen.size(), 3u);
+  EXPECT_EQ(support_seen.size(), 2u);
+  EXPECT_EQ(query_seen.size(), 2u);
+  // the query variations alone, for methods that do not adapt
+  const TaskSet queries = tasks.QueryVariations();
+  ASSERT_EQ(queries.tasks[0].variations.size(), 6u);
+  EXPECT_EQ(queries.tasks[0].variations[1].params["succeed_at"], 3.0);
+  EXPECT_EQ(queries.tasks[0].variations[2].params["succeed_at"], 6.0);
+  EXPECT_FALSE(queries.has_split());
+  // tasks.json keeps the split
+  EXPECT_EQ(TaskSet::FromJson(tasks.ToJson()).query_variations, 2);
+  TaskSet ragged = tasks;
+  ragged.tasks[0].variations.pop_back();
+  EXPECT_THROW(TaskSet::FromJson(ragged.ToJson()), ConfigError);
+}
+
+TEST(SupportQuerySplitTest, OnlyMetaLearnersWithSupportAndQueryRoundsTrainOnASplit) {
+  const Registry registry = TimerRegistry();
+  TaskSet tasks = OneTask({0, 1, 2, 3});
+  tasks.support_variations = 2;
+  tasks.query_variations = 2;
+  const EnvFacts facts = InspectEnvs(tasks, registry);
+  auto error_of = [&](const std::vector<std::string>& overrides) {
+    try {
+      BuildAlgorithm(TrainConfig::Load(std::nullopt, overrides), tasks, facts);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string("<no error>");
+  };
+  EXPECT_NE(error_of({"agent.algo=ppo"}).find("agent.algo 'ppo' cannot train on a support/query"),
+            std::string::npos);
+  EXPECT_NE(error_of({"agent.algo=sac"}).find("cannot train on a support/query"),
+            std::string::npos);
+  EXPECT_NE(error_of({"agent.algo=rl2", "agent.episodes_per_trial=1"}).find("rl2 with"),
+            std::string::npos);
+  EXPECT_EQ(error_of({"agent.algo=maml"}), "<no error>");
+  EXPECT_EQ(error_of({"agent.algo=rl2", "agent.episodes_per_trial=2"}), "<no error>");
+  EXPECT_EQ(error_of({"agent.algo=pearl", "replay.capacity=1000"}), "<no error>");
+  // the config keys: both or neither, each >= 0
+  try {
+    TrainConfig::Load(std::nullopt, {"env.id=point-nav", "env.support_variations=5"}).Validate();
+    FAIL() << "a support split without a query split accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("must both be 0 (no split) or both >= 1, got 5 and 0"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 // v3's multi-task evaluation: episodes end at the first success when asked.

@@ -98,6 +98,10 @@ class Actor {
   // the posterior over its latent). RL2's adaptation is its hidden state, so
   // it does nothing here.
   virtual void Adapt(const torch::Tensor& /*envs*/, ActorState& /*state*/) {}
+  // True for actors whose Box actions are already in the env's units (an
+  // env's own scripted or random policy): the caller passes them on as they
+  // are instead of clipping and scaling them.
+  virtual bool ActsInEnvUnits() const { return false; }
 };
 
 // Stops the rows of envs in `mask` (N, bool) counting in a recorded

@@ -46,6 +46,10 @@ class OnPolicyLearner : public Learner {
   // > 0 (MAML): the loop calls Actor::Adapt after this many rounds of an
   // iteration, so the rest of the trial runs with the adapted policy.
   virtual int64_t adapt_after_rounds() const { return 0; }
+  // With a support/query split of the tasks' variations: a trial's first
+  // support_rounds() rounds run support variations, the rest query ones
+  // (MAML: the rounds before Adapt; RL2: all but the trial's last).
+  virtual int64_t support_rounds() const { return adapt_after_rounds(); }
 };
 
 }  // namespace manyworlds::agents

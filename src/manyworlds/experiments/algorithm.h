@@ -45,6 +45,9 @@ class Algorithm {
  public:
   virtual ~Algorithm() = default;
   virtual int64_t rounds_per_iteration() const = 0;
+  // Whether its trials have support and query rounds, so that it can train
+  // on tasks with a support/query split (TaskSet::has_split).
+  virtual bool SupportsSplit() const { return false; }
   // Runs rounds [first_round, first_round + rounds_per_iteration()) starting
   // at `step` env steps per env; returns the metrics row fields it adds
   // (losses, train_return, train_success, timings, ...).

@@ -149,7 +149,14 @@ std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskS
                        tasks.size(),
                        tasks.size() * config.env.envs_per_task,
                        facts.episode_length};
-  return MakeAlgorithm(setup);
+  std::unique_ptr<Algorithm> algorithm = MakeAlgorithm(setup);
+  if (tasks.has_split() && !algorithm->SupportsSplit()) {
+    throw ConfigError("'env.support_variations': agent.algo '" + config.agent.algo() +
+                      "' cannot train on a support/query split; it needs a meta-learner whose "
+                      "trials have support and query rounds (maml, rl2 with episodes_per_trial "
+                      ">= 2, pearl with prior_episodes >= 1 and later rounds)");
+  }
+  return algorithm;
 }
 
 void CheckAlgorithmEnvs(const AgentConfig& agent, const EnvFacts& facts, const TaskSet& tasks) {

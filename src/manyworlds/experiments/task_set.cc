@@ -57,8 +57,60 @@ nlohmann::json TaskSet::ToJson() const {
     for (const auto& v : t.variations) states.push_back(v.ToJson());
     list.push_back({{"name", t.name}, {"env_id", t.env_id}, {"variations", states}});
   }
-  return {{"options", options}, {"tasks", list}};
+  nlohmann::json json = {{"options", options}, {"tasks", list}};
+  if (has_split()) {
+    json["support_variations"] = support_variations;
+    json["query_variations"] = query_variations;
+  }
+  return json;
 }
+
+int64_t TaskSet::Groups(int64_t task) const {
+  return static_cast<int64_t>(tasks.at(task).variations.size()) /
+         (support_variations + query_variations);
+}
+
+int64_t TaskSet::SupportVariation(int64_t group, int64_t k) const {
+  return group * (support_variations + query_variations) + k % support_variations;
+}
+
+int64_t TaskSet::QueryVariation(int64_t group, int64_t k) const {
+  return group * (support_variations + query_variations) + support_variations +
+         k % query_variations;
+}
+
+TaskSet TaskSet::QueryVariations() const {
+  if (!has_split()) throw Error("TaskSet::QueryVariations: the task set has no support/query split");
+  TaskSet set;
+  set.options = options;
+  for (int64_t t = 0; t < size(); ++t) {
+    TaskSpec spec{tasks[t].name, tasks[t].env_id, {}};
+    for (int64_t g = 0; g < Groups(t); ++g) {
+      for (int64_t k = 0; k < query_variations; ++k) {
+        spec.variations.push_back(tasks[t].variations[QueryVariation(g, k)]);
+      }
+    }
+    set.tasks.push_back(std::move(spec));
+  }
+  return set;
+}
+
+namespace {
+
+// ConfigError unless every task's variations split into whole groups.
+void CheckSplit(const TaskSet& set, const std::string& section) {
+  const int64_t group = set.support_variations + set.query_variations;
+  for (const TaskSpec& task : set.tasks) {
+    const auto n = static_cast<int64_t>(task.variations.size());
+    if (n % group != 0) {
+      throw ConfigError("'" + section + ".support_variations' + 'query_variations' (" +
+                        std::to_string(group) + ") must divide every task's variations; task " +
+                        task.name + " has " + std::to_string(n));
+    }
+  }
+}
+
+}  // namespace
 
 TaskSet TaskSet::FromJson(const nlohmann::json& json) {
   try {
@@ -71,13 +123,22 @@ TaskSet TaskSet::FromJson(const nlohmann::json& json) {
       set.tasks.push_back(std::move(spec));
     }
     if (set.tasks.empty()) throw Error("no tasks");
+    set.support_variations = json.value("support_variations", int64_t{0});
+    set.query_variations = json.value("query_variations", int64_t{0});
+    if (set.support_variations < 0 || set.query_variations < 0 ||
+        (set.support_variations > 0) != (set.query_variations > 0)) {
+      throw Error("support_variations and query_variations must both be 0 or both positive");
+    }
+    if (set.has_split()) CheckSplit(set, "tasks");
     return set;
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("malformed task list: ") + e.what());
   }
 }
 
-TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry) {
+namespace {
+
+TaskSet ResolveTaskList(const EnvSectionConfig& env, const Registry& registry) {
   TaskSet set;
   set.options = env.options;
   const auto& states = env.task_states;
@@ -147,6 +208,16 @@ TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry) {
     set.tasks.push_back({env.num_tasks == 1 ? env.id : env.id + "/" + std::to_string(i), env.id,
                          std::move(states)});
   }
+  return set;
+}
+
+}  // namespace
+
+TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry, const std::string& section) {
+  TaskSet set = ResolveTaskList(env, registry);
+  set.support_variations = env.support_variations;
+  set.query_variations = env.query_variations;
+  if (set.has_split()) CheckSplit(set, section);
   return set;
 }
 

@@ -35,6 +35,12 @@ struct EnvSectionConfig {
   nlohmann::json options = nlohmann::json::object();     // registry options
   int64_t envs_per_task = 1;
   uint64_t task_seed = 0;
+  // The support/query split (both 0: none). Each task's variations come in
+  // groups (layouts) of support + query consecutive ones: meta-learners
+  // adapt on a group's first `support_variations` and are trained and scored
+  // on its other `query_variations` (CS330's box-world protocol).
+  int64_t support_variations = 0;
+  int64_t query_variations = 0;
 };
 
 struct TaskSpec {
@@ -46,8 +52,20 @@ struct TaskSpec {
 struct TaskSet {
   std::vector<TaskSpec> tasks;
   nlohmann::json options = nlohmann::json::object();  // registry options of every env
+  // The support/query split (EnvSectionConfig); both 0 without one.
+  int64_t support_variations = 0;
+  int64_t query_variations = 0;
 
   int64_t size() const { return static_cast<int64_t>(tasks.size()); }
+  bool has_split() const { return support_variations > 0; }
+  // With a split: task t's groups, and the variation of group g that is
+  // its k-th support (query) one, k taken modulo their number.
+  int64_t Groups(int64_t task) const;
+  int64_t SupportVariation(int64_t group, int64_t k) const;
+  int64_t QueryVariation(int64_t group, int64_t k) const;
+  // The same tasks with only their query variations (no split): what
+  // methods that do not adapt are scored on.
+  TaskSet QueryVariations() const;
   // Makes a fresh env of task i (its task state not yet applied).
   std::unique_ptr<Env> MakeEnv(int64_t task, const Registry& registry) const;
 
@@ -59,7 +77,9 @@ struct TaskSet {
 // Resolves the env section (see train_config.h): makes the envs, draws or
 // validates the task states. Throws ConfigError for unknown ids or options,
 // or task states an env rejects.
-TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry);
+// `section` names the config section in errors.
+TaskSet ResolveTasks(const EnvSectionConfig& env, const Registry& registry,
+                     const std::string& section = "env");
 
 // Facts shared by every env of a task set, checked to agree between tasks.
 struct EnvFacts {

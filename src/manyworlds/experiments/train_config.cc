@@ -76,6 +76,16 @@ void CheckMetaTestKeys(const nlohmann::json& file, const std::vector<std::string
   throw ConfigError("'" + key + "' " + what);
 }
 
+void CheckSplitKeys(const EnvSectionConfig& env, const std::string& section) {
+  if (env.support_variations < 0 || env.query_variations < 0 ||
+      (env.support_variations > 0) != (env.query_variations > 0)) {
+    Bad(section + ".support_variations",
+        "and '" + section + ".query_variations' must both be 0 (no split) or both >= 1, got " +
+            std::to_string(env.support_variations) + " and " +
+            std::to_string(env.query_variations));
+  }
+}
+
 }  // namespace
 
 TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
@@ -91,6 +101,8 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
     r.Read("options", c.env.options);
     r.Read("envs_per_task", c.env.envs_per_task);
     r.Read("task_seed", c.env.task_seed);
+    r.Read("support_variations", c.env.support_variations);
+    r.Read("query_variations", c.env.query_variations);
     r.Finish();
     if (c.env.task_states.is_null()) c.env.task_states = nlohmann::json::array();
     if (c.env.options.is_null()) c.env.options = nlohmann::json::object();
@@ -113,6 +125,8 @@ TrainConfig TrainConfig::FromJson(const nlohmann::json& json) {
       r.Read("task_states", e.task_states);
       r.Read("options", e.options);
       r.Read("task_seed", e.task_seed);
+      r.Read("support_variations", e.support_variations);
+      r.Read("query_variations", e.query_variations);
       if (e.task_states.is_null()) e.task_states = nlohmann::json::array();
       if (e.options.is_null()) e.options = nlohmann::json::object();
       c.eval_env = std::move(e);
@@ -206,14 +220,18 @@ nlohmann::json TrainConfig::ToJson() const {
         {"task_states", env.task_states},
         {"options", env.options},
         {"envs_per_task", env.envs_per_task},
-        {"task_seed", env.task_seed}}},
+        {"task_seed", env.task_seed},
+        {"support_variations", env.support_variations},
+        {"query_variations", env.query_variations}}},
       {"eval_env", eval_env ? nlohmann::json{{"id", eval_env->id},
                                              {"tasks", eval_env->tasks},
                                              {"num_tasks", eval_env->num_tasks},
                                              {"variations_per_task", eval_env->variations_per_task},
                                              {"task_states", eval_env->task_states},
                                              {"options", eval_env->options},
-                                             {"task_seed", eval_env->task_seed}}
+                                             {"task_seed", eval_env->task_seed},
+                                             {"support_variations", eval_env->support_variations},
+                                             {"query_variations", eval_env->query_variations}}
                             : nlohmann::json(nullptr)},
       {"meta_test", MetaTestJson(meta_test)},
       {"agent", AgentConfigToJson(agent)},
@@ -286,7 +304,9 @@ void TrainConfig::Validate() const {
     Bad("env.envs_per_task", "must be in [1, " + std::to_string(kMaxEnvsPerTask) + "], got " +
                                  std::to_string(env.envs_per_task));
   }
+  CheckSplitKeys(env, "env");
   if (eval_env) {
+    CheckSplitKeys(*eval_env, "eval_env");
     if (eval_env->id.empty() == eval_env->tasks.empty()) {
       Bad("eval_env", "needs an env id or a task list (not both)");
     }

@@ -19,9 +19,15 @@
 //                          # max_episode_steps)
 //     envs_per_task: 1     # training envs stepped per task
 //     task_seed: 0         # draws the task set; independent of experiment.seed
+//     support_variations: 0  # the support/query split (both 0: none): each
+//     query_variations: 0    # task's variations are groups (layouts) of
+//                          # support + query; meta-learners (maml, rl2,
+//                          # pearl) adapt on a group's support variations and
+//                          # train and are scored on its query ones
 //   eval_env: null         # held-out meta-test tasks: keys of env (id, tasks,
 //                          # num_tasks, variations_per_task, task_states,
-//                          # options, task_seed) replacing the env section's,
+//                          # options, task_seed, support_variations,
+//                          # query_variations) replacing the env section's,
 //                          # e.g. {options: {split: test}} for ML1/ML10's test
 //                          # split; when set, every evaluation also runs the
 //                          # meta-test protocol on them (meta_test.jsonl)

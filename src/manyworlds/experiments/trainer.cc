@@ -362,7 +362,7 @@ Trainer Trainer::Create(const TrainConfig& config) {
   std::optional<TaskSet> held_out;
   if (config.eval_env) {
     try {
-      held_out = ResolveTasks(*config.eval_env, DefaultRegistry());
+      held_out = ResolveTasks(*config.eval_env, DefaultRegistry(), "eval_env");
     } catch (const ConfigError& e) {
       throw ConfigError(std::string("eval_env: ") + e.what());
     }

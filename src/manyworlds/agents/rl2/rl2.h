@@ -62,6 +62,7 @@ class Rl2Learner : public OnPolicyLearner, public Actor {
   Metrics Update(rl::RolloutBuffer& rollout) override;
   int64_t num_updates() const override { return num_updates_; }
   bool trials() const override { return true; }
+  int64_t support_rounds() const override { return config_.episodes_per_trial - 1; }
 
   void Save(torch::serialize::OutputArchive& archive) const override;
   void Load(torch::serialize::InputArchive& archive) override;

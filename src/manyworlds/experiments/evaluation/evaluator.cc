@@ -59,7 +59,10 @@ void Evaluator::TerminateOnSuccess(bool on) {
   collector_->TerminateOnSuccess(on && facts_.success_index >= 0);
 }
 
-EvalResult Evaluator::Run(const PolicyFn& policy) { return RunEpisodes(policy, [] {}); }
+EvalResult Evaluator::Run(const PolicyFn& policy) {
+  collector_->ActionsInEnvUnits(false);
+  return RunEpisodes(policy, [] {});
+}
 
 EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
                                   const std::function<void()>& new_episodes,
@@ -142,6 +145,7 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
 }
 
 EvalResult Evaluator::Run(agents::Actor& actor) {
+  collector_->ActionsInEnvUnits(actor.ActsInEnvUnits());
   const int64_t n = tasks_.size() * slots_;
   agents::ActorState state = actor.Initial(n);
   const torch::Tensor all_envs = torch::ones({n}, torch::kBool);

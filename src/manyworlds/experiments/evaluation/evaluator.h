@@ -101,6 +101,8 @@ class Evaluator : public EvaluationProtocol {
   // toggles terminate_on_success); envs without a success field ignore it.
   void TerminateOnSuccess(bool on);
   const EnvFacts& facts() const { return facts_; }
+  // Env i of the evaluation (PolicyActor's envs).
+  Env& env(int64_t i) { return collector_->env(i); }
 
  private:
   // What the envs did after a step: the observations acted on (N, obs_dim),

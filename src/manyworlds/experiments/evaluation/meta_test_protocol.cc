@@ -183,6 +183,11 @@ MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& re
     : tasks_(test_tasks), config_(config), seed_(seed) {
   config.Validate();
   const int64_t num_tasks = test_tasks.size();
+  if (test_tasks.has_split() && !config.per_variation()) {
+    throw ConfigError(
+        "meta_test: the held-out tasks have a support/query split, which only the "
+        "per_variation protocol follows (set meta_test.protocol: per_variation)");
+  }
   if (config.per_variation()) {
     const int64_t cap = std::max<int64_t>(1, kMaxEnvs / num_tasks);
     const int64_t waves = (config.trials_per_task + cap - 1) / cap;
@@ -215,6 +220,7 @@ MetaTestProtocol::MetaTestProtocol(const TaskSet& test_tasks, const Registry& re
 MetaTestProtocol::~MetaTestProtocol() = default;
 
 MetaTestResult MetaTestProtocol::RunMetaTest(agents::Actor& actor) {
+  collector_->ActionsInEnvUnits(actor.ActsInEnvUnits());
   return config_.per_variation() ? RunPerVariation(actor) : RunMetalearningEvaluation(actor);
 }
 
@@ -253,16 +259,25 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
       const agents::ActMode mode = phase == 0 || config_.sample_evaluation
                                        ? agents::ActMode::kSample
                                        : agents::ActMode::kDeterministic;
+      // the variation of episode k of this phase in env i's trial
+      auto variation = [&](int64_t i, int64_t k) {
+        const int64_t v = first + i % slots_;
+        if (!tasks_.has_split()) return v;
+        const int64_t group = v % tasks_.Groups(i / slots_);
+        return phase == 0 ? tasks_.SupportVariation(group, k) : tasks_.QueryVariation(group, k);
+      };
       collector_->BeginEpisodes([&](int64_t i) {
         const int64_t v = first + i % slots_;
         const uint64_t trial_seed = MixSeed(MixSeed(seed_, i / slots_), v);
-        return Collector::EnvStart{MixSeed(trial_seed, phase), MixSeed(trial_seed + 1, phase), v};
+        return Collector::EnvStart{MixSeed(trial_seed, phase), MixSeed(trial_seed + 1, phase),
+                                   variation(i, 0)};
       });
       for (int64_t i = 0; i < n; ++i) {
         episodes_done[i] = 0;
         waiting_flags[i] = !in_trial[i];
       }
       int64_t remaining = std::count(in_trial.begin(), in_trial.end(), 1);
+      std::vector<int64_t> next_episode;  // envs that go on to their phase's next variation
       while (remaining > 0) {
         const torch::Tensor obs = torch::from_blob(
             const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
@@ -298,8 +313,14 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
           if (++episodes_done[r.env] == count) {
             waiting_flags[r.env] = true;
             --remaining;
+          } else if (tasks_.has_split()) {
+            next_episode.push_back(r.env);
           }
         });
+        for (const int64_t i : next_episode) {
+          collector_->StartEpisode(i, variation(i, episodes_done[i]));
+        }
+        next_episode.clear();
       }
       if (phase == 0) actor.Adapt(trial_envs, state);
     }

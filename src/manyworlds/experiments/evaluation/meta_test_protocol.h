@@ -34,6 +34,11 @@
 //  2. Actor::Adapt;
 //  3. evaluation_episodes episodes with the adapted actor (deterministic
 //     actions unless sample_evaluation).
+// With a support/query split of the held-out tasks (TaskSet::has_split),
+// trial v runs group v mod (groups): its k-th exploration episode on the
+// group's k-th support variation and its k-th evaluation episode on its
+// k-th query variation (k modulo their numbers); metalearning_evaluation
+// refuses such tasks.
 // An episode is a success if `success` > 0.5 at any step. Per task: the
 // success rate and mean return of the evaluation episodes (after
 // adaptation) and of the exploration episodes (before), and the mean total
@@ -138,6 +143,8 @@ class MetaTestProtocol : public EvaluationProtocol {
 
   MetaTestResult RunMetaTest(agents::Actor& actor);
   const EnvFacts& facts() const { return facts_; }
+  // Env i of the protocol (PolicyActor's envs).
+  Env& env(int64_t i) { return collector_->env(i); }
   EvalResult Run(agents::Actor& actor) override { return RunMetaTest(actor).AsEvalResult(); }
 
  private:

@@ -72,18 +72,30 @@ Collector::Collector(const TaskSet& tasks, std::vector<std::unique_ptr<Env>> env
   env_variations_.assign(num_envs_, 0);
 }
 
-void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial) {
+void Collector::BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial,
+                           int64_t support_rounds) {
   if (rounds_per_trial < 1) throw Error("Collector: rounds_per_trial must be >= 1");
   const uint64_t base = MixSeed(MixSeed(seed, kRoundStream), round);
   const uint64_t trial =
       MixSeed(MixSeed(seed, kTrialStream), static_cast<uint64_t>(round / rounds_per_trial));
+  const bool split = tasks_.has_split() && rounds_per_trial > 1;
+  const bool support = round % rounds_per_trial < support_rounds;
   BeginEpisodes([&](int64_t i) {
     Rng r(MixSeed(base, i));
     EnvStart start;
     start.seed = r.NextU64();
     start.task_seed = r.NextU64();
     const uint64_t variations = tasks_.tasks[env_tasks_[i]].variations.size();
-    if (variations > 1) {
+    if (split) {
+      Rng trial_rng(MixSeed(trial, i));
+      const auto group = static_cast<int64_t>(
+          trial_rng.UniformInt(static_cast<uint64_t>(tasks_.Groups(env_tasks_[i]))));
+      start.variation =
+          support ? tasks_.SupportVariation(
+                        group, static_cast<int64_t>(r.UniformInt(tasks_.support_variations)))
+                  : tasks_.QueryVariation(
+                        group, static_cast<int64_t>(r.UniformInt(tasks_.query_variations)));
+    } else if (variations > 1) {
       Rng trial_rng(MixSeed(trial, i));
       start.variation = static_cast<int64_t>(
           rounds_per_trial == 1 ? r.UniformInt(variations) : trial_rng.UniformInt(variations));
@@ -106,6 +118,14 @@ void Collector::BeginEpisodes(const std::function<EnvStart(int64_t env)>& start)
   }
 }
 
+void Collector::StartEpisode(int64_t env, int64_t variation) {
+  const auto& variations = tasks_.tasks[env_tasks_[env]].variations;
+  const int64_t v = variation % static_cast<int64_t>(variations.size());
+  exec_->SetTaskState(static_cast<int>(env), variations[v]);
+  env_variations_[env] = v;
+  tracker_.Restart(env);
+}
+
 void Collector::ResetEpisodes() {
   exec_->Reset();
   for (int64_t i = 0; i < num_envs_; ++i) tracker_.Restart(i);
@@ -124,6 +144,10 @@ void Collector::RestartSucceeded() {
 }
 
 void Collector::StepEnvs(std::span<const float> policy_actions) {
+  if (env_units_) {
+    exec_->Step(policy_actions);
+    return;
+  }
   PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
   exec_->Step(env_actions_);
 }

@@ -77,8 +77,17 @@ class Collector {
 
   // With rounds_per_trial > 1, rounds r and r' with the same
   // r / rounds_per_trial keep each env on the same variation (a trial of
-  // meta-RL); the env seeds still change every round.
-  void BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial = 1);
+  // meta-RL); the env seeds still change every round. With a support/query
+  // split (TaskSet::has_split) a trial keeps each env on one group instead:
+  // its first support_rounds rounds run support variations of the group,
+  // the others its query variations, each round's drawn from the round's
+  // stream.
+  void BeginRound(uint64_t seed, int64_t round, int64_t rounds_per_trial = 1,
+                  int64_t support_rounds = 0);
+  // Env i starts a new episode on variation v of its task at once, its
+  // random streams going on (a trial that changes variation between
+  // episodes). Call between steps, not inside CountEpisodes' callback.
+  void StartEpisode(int64_t env, int64_t variation);
   // Starts a new episode in every env as `start(env)` says: its dynamics and
   // task seeds and which of its task's variations it runs (modulo their
   // number). The evaluation protocols seed their episodes this way.
@@ -95,6 +104,11 @@ class Collector {
   // terminate_on_success): CountEpisodes reports it and the env starts its
   // next episode at once, as auto-reset does after an ended episode.
   void TerminateOnSuccess(bool on);
+  // With on, Step and StepEnvs take actions in the env's units and pass them
+  // on unchanged (Actor::ActsInEnvUnits); off (the default), in the policy's.
+  void ActionsInEnvUnits(bool on) { env_units_ = on; }
+  // Env i of the executor (its task, for policies that read it).
+  Env& env(int64_t i) { return exec_->env(static_cast<int>(i)); }
   // Current observations (num_envs x obs_dim); valid until the next Step.
   std::span<const float> observations() const { return exec_->env_obs(); }
   // Steps every env with one row of policy actions each (num_envs x
@@ -133,6 +147,7 @@ class Collector {
   EpisodeTracker tracker_;
   std::vector<int64_t> succeeded_;  // envs whose episode ended at success this step
   std::vector<float> env_actions_;
+  bool env_units_ = false;
 };
 
 // Maps policy actions to env actions: Box rows clipped to [-1, 1] and scaled

@@ -8,7 +8,10 @@
 // ends), so per-episode state such as TE-PPO's latent follows the episodes.
 // Meta-learners trained on trials (RL2: learner->trials()) get one trial per
 // env per iteration: the rounds keep each env's task variation, and the
-// actor sees every step's outcome (Observe) to build its context.
+// actor sees every step's outcome (Observe) to build its context. With a
+// support/query split of the tasks (env.support_variations) a trial's rounds
+// before learner->support_rounds() run support variations of one group, the
+// rest its query variations.
 // Checkpoint files: learner.pt (learner and torch generators).
 #include <chrono>
 #include <memory>
@@ -40,6 +43,7 @@ class OnPolicyAlgorithm : public Algorithm {
         rounds_(rounds),
         learner_(std::move(learner)),
         buffer_(rounds * s.round_length, s.num_envs, s.facts.obs_dim, s.facts.action_dim) {
+
     env_task_ = torch::empty({num_envs_}, torch::kInt64);
     for (int64_t i = 0; i < num_envs_; ++i) env_task_[i] = i / s.config.env.envs_per_task;
     buffer_.task_index.copy_(env_task_);
@@ -47,6 +51,10 @@ class OnPolicyAlgorithm : public Algorithm {
   }
 
   int64_t rounds_per_iteration() const override { return rounds_; }
+  bool SupportsSplit() const override {
+    return learner_->trials() && learner_->support_rounds() >= 1 &&
+           learner_->support_rounds() < rounds_;
+  }
   agents::Actor& actor() override { return learner_->AsActor(); }
   int64_t updates() const override { return learner_->num_updates(); }
 
@@ -66,7 +74,8 @@ class OnPolicyAlgorithm : public Algorithm {
     agents::StepOutcome outcome;
     for (int64_t k = 0; k < rounds_; ++k) {
       // trial mode: the iteration's rounds are one trial on one variation per env
-      collector.BeginRound(seed_, first_round + k, trials ? rounds_ : 1);
+      collector.BeginRound(seed_, first_round + k, trials ? rounds_ : 1,
+                           learner_->support_rounds());
       if (k > 0) actor.Reset(all_envs, agents::ResetScope::kEpisode, state);
       for (int64_t s = 0; s < round_length_; ++s) {
         const int64_t t = k * round_length_ + s;

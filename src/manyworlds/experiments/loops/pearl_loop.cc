@@ -1,8 +1,9 @@
 // PEARL's loop (oyster's rl_algorithm.py schedule, on envs stepped in
 // lockstep).
 //
-// PEARL's training tasks are the run's (task, variation) pairs: key
-// offset(task) + variation, each with its own RL replay partition and
+// PEARL's training tasks are the run's (task, variation) pairs (with a
+// support/query split, its (task, group) pairs): key offset(task) +
+// variation (or group), each with its own RL replay partition and
 // encoder-buffer partition (replay.capacity rows split evenly between the
 // keys, for each of the two buffers). One iteration is one trial of
 // agent.episodes_per_iteration() rounds, every env on one variation
@@ -21,6 +22,10 @@
 // Iterations that start before experiment.warmup_steps (env steps per env)
 // only collect, every round with z from the prior (oyster's
 // num_initial_steps), and keep their encoder data.
+//
+// With a split, the prior_episodes rounds run support variations of the
+// env's group and only they fill the encoder's buffer; the later rounds run
+// query variations with z inferred from that support context.
 //
 // Differences from oyster: every env collects every iteration (oyster
 // collects for num_tasks_sample random tasks); the first round of the
@@ -71,9 +76,12 @@ class PearlAlgorithm : public Algorithm {
     }
     const agents::PearlConfig agent = SeededAgentConfig<agents::PearlConfig>(s);
     learner_ = std::make_unique<agents::PearlLearner>(agent, facts_.obs_dim, facts_.action_dim);
-    for (const TaskSpec& task : s.tasks.tasks) {
+    split_ = s.tasks.has_split();
+    group_size_ = split_ ? s.tasks.support_variations + s.tasks.query_variations : 1;
+    for (int64_t t = 0; t < s.tasks.size(); ++t) {
       key_offset_.push_back(num_keys_);
-      num_keys_ += static_cast<int64_t>(task.variations.size());
+      num_keys_ += split_ ? s.tasks.Groups(t)
+                          : static_cast<int64_t>(s.tasks.tasks[t].variations.size());
     }
     if (config_.replay.capacity < num_keys_) {
       throw ConfigError("'replay.capacity' (" + std::to_string(config_.replay.capacity) +
@@ -92,6 +100,10 @@ class PearlAlgorithm : public Algorithm {
   int64_t rounds_per_iteration() const override {
     return learner_->config().episodes_per_iteration();
   }
+  bool SupportsSplit() const override {
+    return learner_->config().prior_episodes >= 1 &&
+           rounds_per_iteration() > learner_->config().prior_episodes;
+  }
   agents::Actor& actor() override { return learner_->AsActor(); }
   int64_t updates() const override { return learner_->num_updates(); }
 
@@ -103,11 +115,14 @@ class PearlAlgorithm : public Algorithm {
     EpisodeTotals prior_totals, posterior_totals;
     std::vector<int64_t> keys(num_envs_);
     for (int64_t k = 0; k < rounds; ++k) {
-      collector.BeginRound(config_.experiment.seed, first_round + k, rounds);
+      collector.BeginRound(config_.experiment.seed, first_round + k, rounds, c.prior_episodes);
+      // with a split, only the support rounds fill the encoder's buffer
+      const bool to_encoder = !split_ || k < c.prior_episodes;
       if (k == 0) {
         std::set<int64_t> cleared;
         for (int64_t i = 0; i < num_envs_; ++i) {
-          keys[i] = key_offset_[collector.env_tasks()[i]] + collector.env_variations()[i];
+          keys[i] = key_offset_[collector.env_tasks()[i]] +
+                    collector.env_variations()[i] / group_size_;
           if (!warming && c.prior_episodes > 0 && cleared.insert(keys[i]).second) {
             encoder_replay_->ClearTask(keys[i]);
           }
@@ -143,7 +158,7 @@ class PearlAlgorithm : public Algorithm {
           const std::span<const float> action_row{unit_.data() + i * a, static_cast<size_t>(a)};
           const std::span<const float> next_span{next_row, static_cast<size_t>(d)};
           replay_->Add(keys[i], obs_row, action_row, rewards[i], next_span, terminated[i]);
-          if (phase != Phase::kExtraPosterior) {
+          if (phase != Phase::kExtraPosterior && to_encoder) {
             encoder_replay_->Add(keys[i], obs_row, action_row, rewards[i], next_span,
                                  terminated[i]);
           }
@@ -260,6 +275,8 @@ class PearlAlgorithm : public Algorithm {
   std::unique_ptr<agents::PearlLearner> learner_;
   std::vector<int64_t> key_offset_;
   int64_t num_keys_ = 0;
+  bool split_ = false;      // a support/query split: keys are (task, group)
+  int64_t group_size_ = 1;  // variations per key
   std::unique_ptr<agents::ReplayBuffer> replay_;
   std::unique_ptr<agents::ReplayBuffer> encoder_replay_;
   mutable at::Generator replay_generator_;

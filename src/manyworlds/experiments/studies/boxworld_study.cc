@@ -227,10 +227,12 @@ EnvSectionConfig StudyTestSection(const StudyOptions& o) {
   EnvSectionConfig env;
   env.id = EnvId(o);
   env.num_tasks = 1;
-  env.variations_per_task = kTestLayouts * kQueryTargets;
+  env.variations_per_task = kTestLayouts * (kSupportTargets + kQueryTargets);
   env.task_seed = kTestTaskSeed;
   env.options = StudyEnvOptions(o);
-  env.options["targets_per_layout"] = kQueryTargets;
+  env.options["targets_per_layout"] = kSupportTargets + kQueryTargets;
+  env.support_variations = kSupportTargets;
+  env.query_variations = kQueryTargets;
   return env;
 }
 
@@ -275,6 +277,7 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
     configs.emplace("baseline", StudyMethodConfig(options, "baseline"));
   }
   const TaskSet test_tasks = ResolveTasks(StudyTestSection(options), DefaultRegistry());
+  const TaskSet query_tasks = test_tasks.QueryVariations();
   const int64_t test_episodes = kTestLayouts * kQueryTargets;
   const uint64_t eval_seed = MixSeed(options.seed, kStudyEvalStream);
   fs::create_directories(options.out_dir);
@@ -323,16 +326,20 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
         c.env.num_tasks = 1;
         c.env.variations_per_task = 0;
         c.env.task_states = nlohmann::json::array(
-            {test_tasks.tasks[0].variations[static_cast<size_t>(k * kQueryTargets)].ToJson()});
+            {test_tasks.tasks[0].variations[test_tasks.SupportVariation(k, 0)].ToJson()});
         const RunCost run = TrainRun(
             c, report("fine-tune on test task " + std::to_string(k + 1) + "/" +
                       std::to_string(kFinetuneTasks)),
             callbacks);
         cost.env_steps += run.env_steps;
         announce("evaluate");
-        const RunInfo info = RunInfo::Read(dir);
-        const auto eval = EvaluateCheckpoint(info, LatestCheckpoint(dir),
-                                             test_episodes / kFinetuneTasks, eval_seed);
+        // scored on the layout's query targets
+        TaskSet layout_queries = query_tasks;
+        auto& variations = layout_queries.tasks[0].variations;
+        variations = {variations.begin() + k * kQueryTargets,
+                      variations.begin() + (k + 1) * kQueryTargets};
+        const auto eval = EvaluateCheckpoint(WithTasks(dir, layout_queries), LatestCheckpoint(dir),
+                                             kQueryTargets, eval_seed);
         for (const auto& s : FromEval(eval)) scored.push_back(s);
       }
     } else {
@@ -347,10 +354,13 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
       } else if (IsMetaMethod(method)) {
         RunInfo info = RunInfo::Read(dir);
         info.eval_tasks = test_tasks;
-        scored = FromMetaTest(MetaTestCheckpointEpisodes(info, checkpoint, test_episodes,
+        // one trial per test layout: exploration on its support targets, one evaluation
+        // episode on each of its query targets
+        info.config.meta_test.evaluation_episodes = kQueryTargets;
+        scored = FromMetaTest(MetaTestCheckpointEpisodes(info, checkpoint, kTestLayouts,
                                                          eval_seed));
-      } else {  // baseline, multitask: the test tasks
-        scored = FromEval(EvaluateCheckpoint(WithTasks(dir, test_tasks), checkpoint,
+      } else {  // baseline, multitask: the test layouts' query targets
+        scored = FromEval(EvaluateCheckpoint(WithTasks(dir, query_tasks), checkpoint,
                                              test_episodes, eval_seed));
       }
     }
@@ -399,6 +409,7 @@ nlohmann::json StudyTableJson(const std::vector<StudyRow>& rows, const StudyOpti
           {"seed", o.seed},
           {"layout", StudyLayout(o)},
           {"test_layouts", kTestLayouts},
+          {"support_targets", kSupportTargets},
           {"query_targets", kQueryTargets},
           {"rows", list}};
 }
@@ -428,8 +439,8 @@ std::string StudyTableMarkdown(const std::vector<StudyRow>& rows, const StudyOpt
       << o.seed << ", "
       << (StudyLayout(o) == "paper" ? "the paper's layout (agent in a corner, box touching it)"
                                     : "agent and boxes start anywhere")
-      << "; " << kTestLayouts << " test layouts x " << kQueryTargets
-      << " targets.\n\n";
+      << "; " << kTestLayouts << " test layouts x " << kSupportTargets << " support + "
+      << kQueryTargets << " query targets (scored on the query targets).\n\n";
   out << "| method | mean reward | std | success | paper mean | paper std | paper success | "
          "training env steps | wall |\n";
   out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";

@@ -10,19 +10,24 @@
 // The protocol. Training worlds come from task seed 0 of box-world-<task>
 // with targets_per_layout = 9: groups of 9 consecutive task draws share a
 // layout (agent and box starts; on the broad distribution also floor and
-// boxes) and differ in the target, the paper's 5 support + 4 query targets of
-// a meta-training round. Test worlds: kTestLayouts new layouts (task seed
-// kTestTaskSeed, which shares no layout with the training seed) with
-// kQueryTargets targets each. Every method is scored on episodes of those
-// test tasks (the oracle on its own training task):
+// boxes) and differ in the target, the paper's kSupportTargets support +
+// kQueryTargets query targets of a meta-training round (the configs'
+// env.support_variations / query_variations: meta-learners adapt on a
+// layout's support targets and are trained on its query targets). Test
+// worlds: kTestLayouts new layouts (task seed kTestTaskSeed, which shares no
+// layout with the training seed) with the same split. Every method is scored
+// on the query targets of the test layouts (the oracle on its own training
+// task):
 //   oracle     PPO on one task, evaluated on that task
-//   baseline   PPO on one (other) task, evaluated on the test tasks
-//   finetune   the baseline's PPO fine-tuned on each of the first
-//              kFinetuneTasks test tasks (one per test layout), evaluated there
-//   multitask  PPO on all training worlds, evaluated on the test tasks
+//   baseline   PPO on one (other) task, evaluated on the test query targets
+//   finetune   the baseline's PPO fine-tuned on the first support target of
+//              each of the kFinetuneTasks test layouts, evaluated on that
+//              layout's query targets
+//   multitask  PPO on all training worlds, evaluated on the test query targets
 //   maml, pearl, rl2  trained on the training worlds; the meta-test protocol
-//              on each test task (exploration episodes, adaptation,
-//              evaluation episodes; only the evaluation episodes count)
+//              on each test layout (exploration episodes on its support
+//              targets, adaptation, one evaluation episode on each of its
+//              query targets; only the evaluation episodes count)
 // MT methods act deterministically; each test task is one episode (resets
 // are deterministic). success = the episode earned the +100 (the env's
 // `success`); mean and std of episode return over the scored episodes.
@@ -134,8 +139,9 @@ void ValidateStudyOptions(const StudyOptions& options);
 // The env options every method's worlds use: target_in_obs, hide_target and,
 // on the broad distribution, floor size and box count ranges.
 nlohmann::json StudyEnvOptions(const StudyOptions& options);
-// The test tasks (kTestLayouts layouts x kQueryTargets targets, one task of
-// that many variations, consecutive groups sharing a layout).
+// The test tasks (kTestLayouts layouts x (kSupportTargets + kQueryTargets)
+// targets, one task of that many variations, consecutive groups sharing a
+// layout, with the support/query split).
 EnvSectionConfig StudyTestSection(const StudyOptions& options);
 // A method's training config as the study runs it (config file, then the
 // study's settings). `run_dir` overrides out_dir/<method>.
