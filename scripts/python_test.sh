@@ -11,6 +11,7 @@
 # builds it) the determinism test also compares with `manyworlds rollout --json`.
 # The Meta-World fidelity tests use the official package from PyPI in a second
 # venv (default .venv-metaworld/, override with MANYWORLDS_METAWORLD_VENV).
+# MANYWORLDS_NATIVE=ON builds the extension for this CPU (-march=native; see below).
 # Idempotent; extra arguments go to pytest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -43,7 +44,14 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 "${pip[@]}" install -q --no-deps "stable-baselines3>=2.4,<2.5"
 
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
-"${pip[@]}" install -q .
+# ccache, where installed, and MANYWORLDS_NATIVE=ON (scripts/test.sh sets it, as its main build
+# has it) let this build take the main build's compiled objects instead of compiling the env
+# layers again; a wheel built so is for this CPU only (the default, OFF, is portable).
+build_settings=(-C "cmake.define.MANYWORLDS_NATIVE=${MANYWORLDS_NATIVE:-OFF}")
+if command -v ccache > /dev/null; then
+  build_settings+=(-C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+"${pip[@]}" install -q . "${build_settings[@]}"
 
 # The official Meta-World package for the fidelity tests, in a venv of its own: metaworld 3.1
 # needs gymnasium >= 1.1, Stable-Baselines3 2.4 < 1.1. Nothing of ours is installed there; the

@@ -11,6 +11,7 @@ packages=(
   libosmesa6-dev           # offscreen rendering
   ffmpeg                   # video encoding for `manyworlds render`
   zlib1g-dev               # CRC-32 of checkpoint files
+  ccache                   # the Python package's build reuses the main build's objects (scripts/test.sh)
 )
 missing=()
 for p in "${packages[@]}"; do

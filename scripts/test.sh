@@ -40,7 +40,9 @@ cpp_status=0
 ctest --test-dir "$build_dir" --output-on-failure -j2 || cpp_status=$?
 case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
 py_status=0
-MANYWORLDS_CLI="$cli" bash scripts/python_test.sh || py_status=$?
+# MANYWORLDS_NATIVE=ON: the Python extension is compiled as the main build is, so that ccache
+# hands it the main build's objects (its env layers are not compiled a second time)
+MANYWORLDS_CLI="$cli" MANYWORLDS_NATIVE=ON bash scripts/python_test.sh || py_status=$?
 fuzz_status=0
 bash scripts/fuzz.sh || fuzz_status=$?
 sanitize_status=0
