@@ -57,26 +57,6 @@ CLI::Validator Unsigned() {
       "");
 }
 
-const std::vector<std::string>& PolicyNames() {
-  static const std::vector<std::string> names = {"random", "scripted"};
-  return names;
-}
-
-void CheckPolicyName(std::string_view name) {
-  const auto& names = PolicyNames();
-  if (std::find(names.begin(), names.end(), name) != names.end()) return;
-  std::string allowed;
-  for (const auto& n : names) allowed += (allowed.empty() ? "" : ", ") + n;
-  throw ConfigError("unknown policy '" + std::string(name) + "'" + SuggestNearest(name, names) +
-                    "; allowed: " + allowed);
-}
-
-std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed) {
-  CheckPolicyName(name);
-  if (name == "scripted") return MakeScriptedPolicy(env);
-  return std::make_unique<RandomPolicy>(env.spec().action_space, seed);
-}
-
 std::unique_ptr<Policy> SeedEpisode(Env& env, std::string_view policy, uint64_t seed,
                                     uint64_t task_seed, int episode) {
   const uint64_t index = static_cast<uint64_t>(episode);

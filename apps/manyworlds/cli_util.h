@@ -17,6 +17,7 @@
 #include "apps/manyworlds/remaining_time.h"
 #include "manyworlds/core/env.h"
 #include "manyworlds/core/policy.h"
+#include "manyworlds/envs/all.h"
 
 namespace manyworlds::cli {
 
@@ -31,11 +32,8 @@ CLI::Validator AtLeastOne(int64_t max = 1000000000);
 // Accepts integers in [0, 2^64) (CLI11 would wrap "-1" to 2^64 - 1).
 CLI::Validator Unsigned();
 
-// The policies the CLI can build, and the factory. Throws ConfigError for an
-// unknown name, listing the allowed ones.
-const std::vector<std::string>& PolicyNames();
-void CheckPolicyName(std::string_view name);
-std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed);
+// The policies the CLI can build: PolicyNames, CheckPolicyName, MakePolicy
+// (envs/all.h).
 
 // The CLI's seeding protocol. Every episode is seeded from its index alone,
 // so that episodes can run on any number of threads with the same results:

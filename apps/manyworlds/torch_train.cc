@@ -531,7 +531,7 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--policy", args->policy,
                   "evaluate an env policy instead of a run: scripted (each env's expert) or "
                   "random (uniform actions, a stream per env); RUN_DIR is then a config file")
-      ->check(CLI::IsMember(experiments::EnvPolicyNames()));
+      ->check(CLI::IsMember(PolicyNames()));
   cmd->add_option("--seed", args->seed,
                   "with --policy: the protocol's and the random policy's seed (default: the "
                   "config's experiment.seed)");

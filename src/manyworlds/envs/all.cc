@@ -1,5 +1,7 @@
 #include "manyworlds/envs/all.h"
 
+#include <algorithm>
+
 #include "manyworlds/classic/classic.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/wrapper.h"
@@ -75,6 +77,26 @@ std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env) {
   }
   throw ConfigError("no scripted policy for env '" + env.id() + "': scripted policies exist for " +
                     kScriptedEnvs);
+}
+
+const std::vector<std::string>& PolicyNames() {
+  static const std::vector<std::string> names = {"random", "scripted"};
+  return names;
+}
+
+void CheckPolicyName(std::string_view name) {
+  const auto& names = PolicyNames();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string allowed;
+  for (const auto& n : names) allowed += (allowed.empty() ? "" : ", ") + n;
+  throw ConfigError("unknown policy '" + std::string(name) + "'" + SuggestNearest(name, names) +
+                    "; allowed: " + allowed);
+}
+
+std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed) {
+  CheckPolicyName(name);
+  if (name == "scripted") return MakeScriptedPolicy(env);
+  return std::make_unique<RandomPolicy>(env.spec().action_space, seed);
 }
 
 #ifdef MANYWORLDS_HAS_SIM

@@ -36,6 +36,14 @@ std::unique_ptr<Env> Make(std::string_view id, const nlohmann::json& options = {
 // wrappers. `env` must outlive it. Throws ConfigError for other envs.
 std::unique_ptr<Policy> MakeScriptedPolicy(const Env& env);
 
+// The env policies offered by name (the CLI's --policy, eval's PolicyActor):
+// "random" (RandomPolicy over the env's action space, from `seed`) and
+// "scripted" (MakeScriptedPolicy). CheckPolicyName and MakePolicy throw
+// ConfigError for an unknown name, with the nearest one and the list.
+const std::vector<std::string>& PolicyNames();
+void CheckPolicyName(std::string_view name);
+std::unique_ptr<Policy> MakePolicy(std::string_view name, const Env& env, uint64_t seed);
+
 // Writes the complete MJCF of the current task of a MuJoCo env (one that is
 // a sim::SceneSource: a manipulation task or benchmark, the box world, the
 // half-cheetah; also behind wrappers) to `path`. Throws ConfigError for other

@@ -1,6 +1,5 @@
 #include "manyworlds/experiments/evaluation/policy_actor.h"
 
-#include <algorithm>
 #include <utility>
 
 #include "manyworlds/core/error.h"
@@ -9,17 +8,9 @@
 
 namespace manyworlds::experiments {
 
-const std::vector<std::string>& EnvPolicyNames() {
-  static const std::vector<std::string> names = {"scripted", "random"};
-  return names;
-}
-
 PolicyActor::PolicyActor(std::string policy, uint64_t seed, std::function<Env&(int64_t)> env_of)
     : policy_(std::move(policy)), seed_(seed), env_of_(std::move(env_of)) {
-  const auto& names = EnvPolicyNames();
-  if (std::find(names.begin(), names.end(), policy_) == names.end()) {
-    throw ConfigError("--policy: unknown policy '" + policy_ + "'; allowed: scripted, random");
-  }
+  CheckPolicyName(policy_);
 }
 
 agents::ActOutput PolicyActor::Act(const torch::Tensor& obs, const torch::Tensor&,
@@ -32,10 +23,7 @@ agents::ActOutput PolicyActor::Act(const torch::Tensor& obs, const torch::Tensor
     Env& env = env_of_(i);
     if (static_cast<int64_t>(policies_.size()) <= i) policies_.resize(i + 1);
     if (!policies_[i]) {
-      policies_[i] = policy_ == "scripted"
-                         ? MakeScriptedPolicy(env)
-                         : std::make_unique<RandomPolicy>(env.spec().action_space,
-                                                          MixSeed(seed_, static_cast<uint64_t>(i)));
+      policies_[i] = MakePolicy(policy_, env, MixSeed(seed_, static_cast<uint64_t>(i)));
     }
     const int64_t action_dim = env.spec().action_space.flat_size();
     if (!action.defined()) action = torch::zeros({n, action_dim});

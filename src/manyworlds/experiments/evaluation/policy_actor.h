@@ -5,9 +5,8 @@
 // tested (python/tests/test_metaworld_protocols.py): the same policy driven
 // by v3's code over our Python envs and by our protocols must score the same.
 //
-// Env i's policy is made at its first Act: "scripted" from the env
-// (MakeScriptedPolicy), "random" as RandomPolicy(action space,
-// MixSeed(seed, i)). A policy's BeginEpisode is called when its env is at
+// Env i's policy is made at its first Act: MakePolicy(name, env,
+// MixSeed(seed, i)) (envs/all.h: "scripted" or "random"). A policy's BeginEpisode is called when its env is at
 // the first step of an episode (elapsed_steps 0), wherever the protocol
 // reset it. Actions are in the env's units (ActsInEnvUnits).
 #ifndef MANYWORLDS_EXPERIMENTS_EVALUATION_POLICY_ACTOR_H_
@@ -27,9 +26,6 @@
 #include "manyworlds/experiments/train_config.h"
 
 namespace manyworlds::experiments {
-
-// The policies a PolicyActor offers, for help and errors.
-const std::vector<std::string>& EnvPolicyNames();
 
 class PolicyActor : public agents::Actor {
  public:
