@@ -36,17 +36,32 @@ cmake --build "$build_dir" -j"$(nproc)"
 if [ "$quick" -eq 1 ]; then
   exec ctest --test-dir "$build_dir" --output-on-failure -j2 -LE slow
 fi
+# each stage's wall time, printed at the end: CI's budget is 40 minutes on two cores
+stage_times=()
+stage_start=$SECONDS
+stage_done() {
+  stage_times+=("$(printf '%-34s %5d s' "$1" $((SECONDS - stage_start)))")
+  stage_start=$SECONDS
+}
+stage_done "setup and C++ build"
 cpp_status=0
 ctest --test-dir "$build_dir" --output-on-failure -j2 || cpp_status=$?
+stage_done "C++ tests (ctest)"
 case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
 py_status=0
 # MANYWORLDS_NATIVE=ON: the Python extension is compiled as the main build is, so that ccache
 # hands it the main build's objects (its env layers are not compiled a second time)
 MANYWORLDS_CLI="$cli" MANYWORLDS_NATIVE=ON bash scripts/python_test.sh || py_status=$?
+stage_done "Python package: build and pytest"
 fuzz_status=0
 bash scripts/fuzz.sh || fuzz_status=$?
+stage_done "fuzzing (clang build and targets)"
 sanitize_status=0
 bash scripts/sanitize.sh || sanitize_status=$?
+stage_done "sanitizer build and tests"
+echo "test.sh: wall time per stage"
+printf '  %s\n' "${stage_times[@]}"
+printf '  %-34s %5d s\n' "total" "$SECONDS"
 if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ] || [ "$fuzz_status" -ne 0 ] ||
    [ "$sanitize_status" -ne 0 ]; then
   echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status," \

@@ -15,9 +15,14 @@ arm reaches, grasps and moves the object), `--steps` steps each. A record is one
 state record (SawyerState), taken from the official env as its reward code reads them.
 
 With `--observation-spaces`, per task the observation bounds instead (observation_spaces).
+Tasks are recorded by `--jobs` processes at once (default: every core); each task's records
+depend on its own arguments only, so the output is the same for any count.
 """
 import argparse
+import concurrent.futures
+import functools
 import json
+import os
 import re
 
 import numpy as np
@@ -173,8 +178,8 @@ def record_task(task, goals, steps, seed, reward_version):
     return rows
 
 
-def observation_spaces(tasks):
-    """Per task, the bounds v3 gives its observation: `sawyer_observation_space`, the Box v3
+def observation_spaces(task):
+    """The task's bounds v3 gives its observation: `sawyer_observation_space`, the Box v3
     clips every observation to, with the goal hidden ("ml1": as an env is built, and as ML1's
     tasks keep it) and visible ("mt1": after `set_task` with one of MT1's tasks). (The env's
     `observation_space` attribute is the one computed at construction, so its goal bounds stay
@@ -183,16 +188,21 @@ def observation_spaces(tasks):
 
     box = lambda space: {"low": [float(x) for x in space.low],
                          "high": [float(x) for x in space.high]}
-    spaces = {}
-    for task in tasks:
-        benchmark = metaworld.MT1(f"{task}-v3", seed=0)
-        env = benchmark.train_classes[f"{task}-v3"]()
-        assert env._partially_observable
-        hidden = box(env.sawyer_observation_space)
-        env.set_task(benchmark.train_tasks[0])
-        assert not env._partially_observable
-        spaces[task] = {"ml1": hidden, "mt1": box(env.sawyer_observation_space)}
-    return spaces
+    benchmark = metaworld.MT1(f"{task}-v3", seed=0)
+    env = benchmark.train_classes[f"{task}-v3"]()
+    assert env._partially_observable
+    hidden = box(env.sawyer_observation_space)
+    env.set_task(benchmark.train_tasks[0])
+    assert not env._partially_observable
+    return {"ml1": hidden, "mt1": box(env.sawyer_observation_space)}
+
+
+def map_tasks(function, tasks, jobs):
+    """[function(task) for task in tasks], `jobs` processes at once (one: in this process)."""
+    if jobs <= 1 or len(tasks) <= 1:
+        return [function(task) for task in tasks]
+    with concurrent.futures.ProcessPoolExecutor(max_workers=min(jobs, len(tasks))) as pool:
+        return list(pool.map(function, tasks))
 
 
 def main():
@@ -204,18 +214,24 @@ def main():
     parser.add_argument("--reward-version", default="v2", choices=["v1", "v2"])
     parser.add_argument("--observation-spaces", action="store_true",
                         help="record each task's observation bounds (MT1 and ML1) instead of steps")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="tasks recorded at once, each in its own process (default: every core)")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
+    if args.jobs < 1:
+        parser.error(f"--jobs must be at least 1, got {args.jobs}")
     import metaworld
 
+    tasks = args.tasks.split(",")
     if args.observation_spaces:
+        spaces = map_tasks(observation_spaces, tasks, args.jobs)
         with open(args.out, "w") as f:
             json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
-                       "spaces": observation_spaces(args.tasks.split(","))}, f)
+                       "spaces": dict(zip(tasks, spaces))}, f)
         return
-    rows = []
-    for task in args.tasks.split(","):
-        rows += record_task(task, args.goals, args.steps, args.seed, args.reward_version)
+    record = functools.partial(record_task, goals=args.goals, steps=args.steps, seed=args.seed,
+                               reward_version=args.reward_version)
+    rows = [row for task_rows in map_tasks(record, tasks, args.jobs) for row in task_rows]
     with open(args.out, "w") as f:
         json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
                    "reward_version": args.reward_version, "rows": rows}, f)
