@@ -113,3 +113,42 @@ function(manyworlds_tests)
     set_property(DIRECTORY APPEND PROPERTY TEST_INCLUDE_FILES ${label_script})
   endforeach()
 endfunction()
+
+# manyworlds_includes_torch(<file> <out>): ON if <file> includes a libtorch
+# header (torch/, ATen/, c10/), directly or through the project's own headers
+# ("manyworlds/...", "apps/...", "tests/..."), found by reading #include lines
+# at configure time. Used to keep the torch PCH out of sources that do not need
+# it: a PCH-less source that includes torch textually would cost more, one
+# that does not but gets the PCH pays ~10 s for loading it.
+function(manyworlds_includes_torch file out)
+  get_property(known GLOBAL PROPERTY "MANYWORLDS_TORCH:${file}" SET)
+  if(known)
+    get_property(result GLOBAL PROPERTY "MANYWORLDS_TORCH:${file}")
+    set(${out} ${result} PARENT_SCOPE)
+    return()
+  endif()
+  set_property(GLOBAL PROPERTY "MANYWORLDS_TORCH:${file}" OFF)  # guards include cycles
+  set(result OFF)
+  file(STRINGS ${file} lines REGEX "^[ \t]*#[ \t]*include")
+  foreach(line IN LISTS lines)
+    if(line MATCHES "<(torch|ATen|c10)/")
+      set(result ON)
+      break()
+    elseif(line MATCHES "\"(manyworlds/[^\"]+)\"")
+      set(header ${PROJECT_SOURCE_DIR}/src/${CMAKE_MATCH_1})
+    elseif(line MATCHES "\"((apps|tests)/[^\"]+)\"")
+      set(header ${PROJECT_SOURCE_DIR}/${CMAKE_MATCH_1})
+    else()
+      continue()
+    endif()
+    if(EXISTS ${header})
+      manyworlds_includes_torch(${header} header_result)
+      if(header_result)
+        set(result ON)
+        break()
+      endif()
+    endif()
+  endforeach()
+  set_property(GLOBAL PROPERTY "MANYWORLDS_TORCH:${file}" ${result})
+  set(${out} ${result} PARENT_SCOPE)
+endfunction()
