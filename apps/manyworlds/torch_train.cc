@@ -131,11 +131,13 @@ struct TrainArgs {
   std::string resume;
   bool restart = false;
   int64_t stop_after = -1;
+  bool print_config = false;
 };
 
 void RunTrain(const TrainArgs& args, CommandContext& context) {
   std::optional<experiments::Trainer> trainer;
   if (!args.resume.empty()) {
+    if (args.print_config) throw ConfigError("--print-config goes with CONFIG, not --resume");
     if (!args.positional.empty()) {
       throw ConfigError("--resume continues a run with its saved config; drop '" +
                         args.positional.front() + "'");
@@ -159,6 +161,12 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
                         "configs/point_nav_sac.yaml`, or --resume RUN_DIR");
     }
     experiments::TrainConfig config = experiments::TrainConfig::Load(file, overrides);
+    if (args.print_config) {
+      // for tools that plan runs (the sweep layer): the resolved, validated config, nothing made
+      config.Validate();
+      PrintJson(config.ToJson());
+      return;
+    }
     trainer.emplace(experiments::Trainer::Create(config));
   }
 
@@ -516,6 +524,9 @@ void AddTrainCommand(CLI::App& app, CommandContext& context) {
                   "stop after the first checkpoint at or past this many steps per env "
                   "(continue later with --resume)")
       ->check(CLI::NonNegativeNumber);
+  cmd->add_flag("--print-config", args->print_config,
+                "print the resolved config (defaults, file, overrides; validated) as JSON and "
+                "exit without training or writing anything");
   cmd->callback([args, &context] { RunTrain(*args, context); });
 }
 

@@ -230,6 +230,9 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
       {"eval nowhere", 2, "nowhere"},
       {"train tiny.yaml +env.options.max_episode_steps=0", 2, "[1, 1000000]"},
       {"bench agent --obs-dim 100000 --batch 1000000", 2, "GiB"},
+      {"train tiny.yaml --print-config experiment.eval_episodes=0", 2, "eval_episodes"},
+      {"train tiny.yaml --print-config agent.hiden_dim=3", 2, "hidden_dim"},
+      {"train --resume runs/tiny --print-config", 2, "--print-config"},
   };
   for (const auto& c : cases) {
     const RunResult r = RunCli(c.args, dir);
@@ -238,6 +241,15 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
     EXPECT_NE(r.err.find(c.needle), std::string::npos) << c.args << "\n" << r.err;
   }
   EXPECT_FALSE(fs::exists(dir / "runs"));  // nothing was created
+
+  // --print-config: the resolved tree (file, overrides, defaults), and no run directory
+  const RunResult printed = RunCli("train tiny.yaml --print-config experiment.seed=7", dir);
+  ASSERT_EQ(printed.exit_code, 0) << printed.err;
+  const nlohmann::json resolved = nlohmann::json::parse(printed.out);
+  EXPECT_EQ(resolved["experiment"]["seed"], 7);
+  EXPECT_EQ(resolved["experiment"]["run_dir"], "runs/tiny");
+  EXPECT_EQ(resolved["replay"]["capacity"], experiments::ReplaySectionConfig{}.capacity);
+  EXPECT_FALSE(fs::exists(dir / "runs"));
 
   ASSERT_EQ(RunCli("train tiny.yaml experiment.steps_per_task=150", dir).exit_code, 0);
   const RunResult twice = RunCli("train tiny.yaml", dir);
