@@ -248,7 +248,8 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
   const nlohmann::json resolved = nlohmann::json::parse(printed.out);
   EXPECT_EQ(resolved["experiment"]["seed"], 7);
   EXPECT_EQ(resolved["experiment"]["run_dir"], "runs/tiny");
-  EXPECT_EQ(resolved["replay"]["capacity"], experiments::ReplaySectionConfig{}.capacity);
+  EXPECT_EQ(resolved["replay"]["capacity"], 5000);  // the file
+  EXPECT_EQ(resolved["meta_test"]["num_evals"], experiments::MetaTestConfig{}.num_evals);
   EXPECT_FALSE(fs::exists(dir / "runs"));
 
   ASSERT_EQ(RunCli("train tiny.yaml experiment.steps_per_task=150", dir).exit_code, 0);
