@@ -5,7 +5,8 @@
 # which builds manyworlds._core with CMake into build-py/) and the test
 # dependencies, and runs the pytest suite in python/tests.
 #
-# Test dependencies: gymnasium 1.0, pytest and Stable-Baselines3 2.4 on Debian's
+# Test dependencies: the package's sweep extra (Ray, rliable, tensorboardX), gymnasium 1.0,
+# pytest and Stable-Baselines3 2.4 on Debian's
 # python3-torch (1.13; the venv sees it through --system-site-packages), so no
 # CUDA wheels are downloaded. Where build/manyworlds exists (scripts/test.sh
 # builds it) the determinism test also compares with `manyworlds rollout --json`.
@@ -51,7 +52,9 @@ build_settings=(-C "cmake.define.MANYWORLDS_NATIVE=${MANYWORLDS_NATIVE:-OFF}")
 if command -v ccache > /dev/null; then
   build_settings+=(-C cmake.define.CMAKE_CXX_COMPILER_LAUNCHER=ccache)
 fi
-"${pip[@]}" install -q . "${build_settings[@]}"
+# .[sweep]: Ray (tasks and Tune), rliable and tensorboardX for manyworlds-sweep; pyarrow<21 (Ray
+# Tune's) is the last that runs on numpy 1.x, which Debian's torch needs here.
+"${pip[@]}" install -q ".[sweep]" "numpy>=1.21,<2" "pyarrow<21" "${build_settings[@]}"
 
 # The official Meta-World package for the fidelity tests, in a venv of its own: metaworld 3.1
 # needs gymnasium >= 1.1, Stable-Baselines3 2.4 < 1.1. Nothing of ours is installed there; the

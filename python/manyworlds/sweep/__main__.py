@@ -1,0 +1,5 @@
+import sys
+
+from manyworlds.sweep.cli import main
+
+sys.exit(main())
