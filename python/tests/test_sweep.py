@@ -432,6 +432,8 @@ def test_bad_search_files_are_one_error_naming_the_problem(tmp_path):
         "space:\n  agent.actor_lr: {choice: [1]}\nmode: maximum\n": "mode must be max or min",
         "space:\n  agent.actor_lr: {choice: [1]}\noverrides: {agent.actor_lr: 2}\n":
             "both searched (space) and fixed (overrides)",
+        "space:\n  agent.actor_lr: {choice: [1]}\nloggers: [neptune]\n":
+            "loggers must be a list of mlflow, wandb",
     }
     for text, needle in cases.items():
         path = write(tmp_path / "search.yaml", "config: tiny.yaml\n" + text)

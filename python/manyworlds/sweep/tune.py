@@ -21,6 +21,7 @@ trial early (its program gets SIGTERM, checkpoints and stops).
     search_seed: 0                 # the sampler's seed: the same file samples the same trials
     resources: {num_cpus: auto}    # per trial; auto: the config's experiment.num_threads
     max_concurrent_trials: 0       # 0: as many as the CPUs allow
+    loggers: []                    # Ray Tune's MLflow / Weights & Biases loggers: mlflow, wandb
 
 The trial's report counts evaluations (training_iteration); ASHA's grace period and max_t are in
 evaluations. Results: OUT/NAME/ (Tune's experiment folder, one trial folder each with its run
@@ -42,7 +43,11 @@ from typing import Any, Callable
 from manyworlds.sweep import runner, spec
 
 SEARCH_KEYS = {"name", "config", "overrides", "seed", "budget", "space", "num_samples", "metric",
-               "source", "mode", "scheduler", "search_seed", "resources", "max_concurrent_trials"}
+               "source", "mode", "scheduler", "search_seed", "resources", "max_concurrent_trials",
+               "loggers"}
+# Ray Tune's logger callbacks: (module, class, the package they need)
+LOGGERS = {"mlflow": ("ray.air.integrations.mlflow", "MLflowLoggerCallback", "mlflow"),
+           "wandb": ("ray.air.integrations.wandb", "WandbLoggerCallback", "wandb")}
 DISTRIBUTIONS = {"choice", "grid", "uniform", "loguniform"}
 SOURCES = {"eval": "eval.jsonl", "meta_test": "meta_test.jsonl"}
 
@@ -146,11 +151,14 @@ def parse_search(data: Any, source: str, base_dir: pathlib.Path | None = None,
     concurrent = data.get("max_concurrent_trials", 0)
     if type(concurrent) is not int or concurrent < 0:
         _fail(source, f"max_concurrent_trials must be a non-negative integer, got {concurrent!r}")
+    loggers = data.get("loggers", [])
+    if not isinstance(loggers, list) or any(logger not in LOGGERS for logger in loggers):
+        _fail(source, f"loggers must be a list of {', '.join(LOGGERS)}, got {loggers!r}")
     return {"name": name, "config": str(config), "overrides": overrides, "seed": seed,
             "space": checked_space, "num_samples": num_samples, "metric": metric,
             "source": source_kind, "mode": mode, "scheduler": scheduler,
             "search_seed": search_seed, "resources": resources,
-            "max_concurrent_trials": concurrent, "file": source}
+            "max_concurrent_trials": concurrent, "loggers": loggers, "file": source}
 
 
 def _tune_space(space: dict[str, tuple[str, list[Any]]]) -> dict[str, Any]:
@@ -228,6 +236,25 @@ def make_trainable(cli: str, settings: dict[str, Any]) -> Callable[[dict[str, An
     return trainable
 
 
+def logger_callbacks(settings: dict[str, Any]) -> list[Any]:
+    """Ray Tune's MLflow / W&B loggers the search file asks for (their settings, such as
+    MLFLOW_TRACKING_URI or WANDB_API_KEY, come from the environment as those packages read it)."""
+    import importlib
+
+    callbacks = []
+    for name in settings["loggers"]:
+        module, cls, package = LOGGERS[name]
+        try:
+            importlib.import_module(package)
+        except ImportError:
+            raise ValueError(f"loggers: {name} needs the {package} package "
+                             f"(pip install {package})") from None
+        make = getattr(importlib.import_module(module), cls)
+        callbacks.append(make(experiment_name=settings["name"]) if name == "mlflow"
+                         else make(project=settings["name"]))
+    return callbacks
+
+
 def run_search(settings: dict[str, Any], out_dir: str | pathlib.Path, *, cli: str | None = None,
                address: str | None = None, num_cpus: int | None = None, resume: bool = False,
                object_store_mb: int = 200) -> list[dict[str, Any]]:
@@ -271,7 +298,8 @@ def run_search(settings: dict[str, Any], out_dir: str | pathlib.Path, *, cli: st
                                   grace_period=asha.get("grace_period", 1),
                                   reduction_factor=asha.get("reduction_factor", 2),
                                   max_t=asha.get("max_t", 10**9))
-    run_config = tune.RunConfig(name=settings["name"], storage_path=str(out_dir), verbose=0)
+    run_config = tune.RunConfig(name=settings["name"], storage_path=str(out_dir), verbose=0,
+                                callbacks=logger_callbacks(settings))
     if resume:
         tuner = tune.Tuner.restore(str(experiment_dir), trainable=trainable,
                                    resume_unfinished=True, resume_errored=True)
