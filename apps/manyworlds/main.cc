@@ -1,5 +1,9 @@
 // manyworlds: command-line access to the environments. See README.md.
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
 #include <functional>
 #include <iostream>
 #include <string>
@@ -13,9 +17,34 @@
 #include "manyworlds/core/memory.h"
 #include "manyworlds/core/registry.h"
 
+namespace {
+
+// Everything printed to standard output reached it, else one line naming the error (a full
+// disk, a closed pipe, /dev/full), so that `manyworlds ... > file` never exits 0 with the
+// output lost.
+bool StandardOutputWritten() {
+  errno = 0;
+  std::cout.flush();  // with stdio sync, this is stdout's fflush: it sets errno on failure
+  int err = errno;
+  const bool flushed = std::fflush(stdout) == 0;
+  if (err == 0) err = errno;
+  const bool ok = std::cout.good() && flushed && !std::ferror(stdout);
+  if (!ok) {
+    std::cerr << "error: cannot write standard output"
+              << (err != 0 ? std::string(": ") + std::strerror(err) : std::string()) << "\n";
+  }
+  return ok;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   namespace cli = manyworlds::cli;
   manyworlds::KeepFreedMemoryForReuse();  // before any thread or tensor exists
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which every writer reports
+  // with the file's name, instead of the kernel ending the process with SIGXFSZ. (SIGPIPE
+  // keeps its default: `manyworlds envs | head` ends quietly, as Unix tools do.)
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"manyworlds: multi-task and meta-RL environments in C++", "manyworlds"};
   app.require_subcommand(1);
   app.footer("Run `manyworlds <command> --help` for the options of a command.");
@@ -52,7 +81,10 @@ int main(int argc, char** argv) {
     }
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    if (e.get_exit_code() == 0) {  // --help
+      const int code = app.exit(e);
+      return StandardOutputWritten() ? code : 1;
+    }
     std::cerr << "error: " << e.what() << " (see --help)\n";
     return 2;
   } catch (const manyworlds::ConfigError& e) {
@@ -62,5 +94,6 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
+  if (!StandardOutputWritten() && context.exit_code == 0) return 1;
   return context.exit_code;
 }

@@ -28,6 +28,7 @@
 #include "manyworlds/experiments/algorithms.h"
 #include "manyworlds/experiments/evaluation/policy_actor.h"
 #include "manyworlds/experiments/run/checkpoint_integrity.h"
+#include "manyworlds/experiments/run/run_dir.h"
 #include "manyworlds/experiments/trainer.h"
 #include "manyworlds/nn/threads.h"
 
@@ -141,6 +142,12 @@ void RunTrain(const TrainArgs& args, CommandContext& context) {
     if (!args.positional.empty()) {
       throw ConfigError("--resume continues a run with its saved config; drop '" +
                         args.positional.front() + "'");
+    }
+    // a finished run stays as it is: resuming it again would rewrite its summary
+    if (const auto step = experiments::FinishedRunStep(args.resume); step && !args.restart) {
+      std::cerr << "train: " << args.resume << " finished at step " << *step
+                << "; nothing to resume (its summary.json is unchanged)\n";
+      return;
     }
     trainer.emplace(experiments::Trainer::Resume(args.resume, args.restart));
   } else {

@@ -118,6 +118,9 @@ class ManyworldsEnv(gym.Env):
         """
         super().reset(seed=seed)
         env = self._live()
+        if options is not None and not isinstance(options, Mapping):
+            raise ValueError(f"env '{self.env_id}': reset options must be a mapping such as "
+                             f"{{'task_seed': 3}}, got {type(options).__name__}")
         if options:
             unknown = [k for k in options if k not in RESET_OPTIONS]
             if unknown:
@@ -148,7 +151,14 @@ class ManyworldsEnv(gym.Env):
         if self._discrete_n:
             flat = discrete_action_value(action, self._discrete_n)
         else:
-            flat = np.asarray(action, dtype=np.float32).reshape(-1)
+            array = np.asarray(action, dtype=np.float32)
+            # the action space's own shape, or a flat vector of its size; (1, n) or (3, 1, n)
+            # would be a batch (a vector env's), not one action
+            if array.shape != self.action_space.shape and array.ndim != 1:
+                raise _core.InvalidActionError(
+                    f"env '{self.env_id}': action of shape {array.shape}; expected "
+                    f"{self.action_space.shape} (one action: vector envs take batches)")
+            flat = array.reshape(-1)
         env_obs, task_obs, reward, terminated, truncated, info_values = env.step(flat)
         info = {name: float(v) for name, v in zip(self._info_fields, info_values)}
         return self._obs(env_obs, task_obs), float(reward), bool(terminated), bool(truncated), info

@@ -39,8 +39,25 @@ def test_invalid_actions_are_value_errors_and_keep_the_episode():
         box.step(np.zeros(3))
     with pytest.raises(ValueError):
         box.step("left")
+    # a batch of actions is not one action (it was flattened: (1, 2) stepped as (2,))
+    for batch in (np.zeros((1, 2)), np.zeros((3, 1, 2))):
+        with pytest.raises(manyworlds.InvalidActionError, match=r"action of shape \("):
+            box.step(batch)
     box.step(np.zeros(2))  # the episode still runs
     env.step(0)
+
+
+def test_hostile_option_values_and_reset_options_are_one_clear_error():
+    # integers past 2^63 were wrapped to negative numbers; nested lists crashed the process
+    with pytest.raises(manyworlds.ConfigError, match=r"beyond the integers \[-2\^63, 2\^63\)"):
+        manyworlds.make("point-nav", max_episode_steps=2**64 - 1)
+    with pytest.raises(manyworlds.ConfigError, match="has value"):
+        manyworlds.make("bandit", n_arms="[" * 60000 + "]" * 60000)
+    with pytest.raises(manyworlds.ConfigError, match="episodes of 1000000000000000 steps"):
+        manyworlds.make("point-nav", horizon=10**15)
+    env = manyworlds.make("point-nav")
+    with pytest.raises(ValueError, match="reset options must be a mapping"):
+        env.reset(options="abc")
 
 
 def test_protocol_errors_are_runtime_errors():

@@ -147,6 +147,28 @@ TEST(CliTest, BadInputIsAUsageError) {
             std::string::npos);
 }
 
+TEST(CliTest, OutputThatCannotBeWrittenIsAnError) {
+  // /dev/full: every write fails (ENOSPC); the program must not exit 0 with its output lost
+  for (const char* args : {"envs > /dev/full", "rollout --env cartpole --json > /dev/full",
+                           "--help > /dev/full", "rollout --env bandit --option "
+                           "n_arms=[[[[[[[[[[[[[[[[[[[[]]]]]]]]]]]]]]]]]]]] > /dev/full"}) {
+    const RunResult r = RunCli(args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
+  }
+  EXPECT_NE(RunCli("envs > /dev/full").err.find("error: cannot write standard output"),
+            std::string::npos);
+  // past a file-size limit (ulimit -f 1): one line, not death by SIGXFSZ (exit 153)
+  const fs::path dir = ScratchDir();
+  const RunResult limited = test_support::RunProgram(
+      "/bin/sh", "-c \"ulimit -f 1; '" + std::string(MANYWORLDS_CLI_PATH) +
+                     "' rollout --env cartpole --episodes 50 --json > out.json\"", dir);
+  EXPECT_EQ(limited.exit_code, 1) << limited.err;
+  EXPECT_TRUE(IsOneErrorLine(limited.err)) << limited.err;
+  EXPECT_NE(limited.err.find("File too large"), std::string::npos) << limited.err;
+  fs::remove_all(dir);
+}
+
 TEST(CliTest, RolloutJsonIsByteIdenticalAcrossRuns) {
   const std::string args =
       "rollout --env point-nav --episodes 3 --seed 5 --task-seed 7 --option max_episode_steps=50 "

@@ -25,6 +25,16 @@ Registry MakeRegistry() {
   return registry;
 }
 
+// What a hostile value gives: the ConfigError's message (empty: no error).
+std::string MakeError(const Registry& registry, const nlohmann::json& options) {
+  try {
+    registry.Make("toy", options);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 TEST(RegistryTest, MakesEnvsWithOptions) {
   Registry registry = MakeRegistry();
   auto env = registry.Make("toy", {{"discrete", true}, {"limit", "7"}});
@@ -70,8 +80,55 @@ TEST(RegistryTest, UnknownAndIllTypedOptionsAreErrors) {
   }
   EXPECT_EQ(registry.Make("toy", {{"max_episode_steps", 1000000}})->spec().max_episode_steps,
             1000000);
+  // the env's own limit too: an episode of 10^15 steps is refused, not run (it hung)
+  EXPECT_NE(MakeError(registry, {{"limit", int64_t{1000000000000000}}})
+                .find("episodes of 1000000000000000 steps, more than the 1000000 allowed"),
+            std::string::npos);
+  EXPECT_EQ(registry.Make("toy", {{"limit", 1000000000000000}, {"max_episode_steps", 10}})
+                ->spec().max_episode_steps,
+            10);
   EXPECT_THROW(registry.Make("toy", nlohmann::json::array({1})), ConfigError);
   EXPECT_NO_THROW(registry.Make("toy", {{"mode", "b"}, {"scale", "2"}, {"discrete", "true"}}));
+}
+
+TEST(RegistryTest, HostileOptionValuesAreShortOneLineErrors) {
+  Registry registry = MakeRegistry();
+  // 60,000 nested lists, as a string and as a value: refused without printing them (printing
+  // one in full overflowed the stack: SIGSEGV)
+  nlohmann::json as_string = nlohmann::json::object();
+  as_string["limit"] = std::string(60000, '[') + std::string(60000, ']');
+  nlohmann::json as_value = nlohmann::json::object();
+  nlohmann::json nested = nlohmann::json::array();
+  for (int i = 0; i < 60000; ++i) {
+    nlohmann::json outer = nlohmann::json::array();
+    outer.push_back(std::move(nested));
+    nested = std::move(outer);
+  }
+  as_value["limit"] = std::move(nested);  // moved, never copied: a copy recurses
+  for (const nlohmann::json* options : {&as_string, &as_value}) {
+    const std::string what = MakeError(registry, *options);
+    EXPECT_NE(what.find("option 'limit' has value"), std::string::npos) << what.substr(0, 300);
+    EXPECT_LT(what.size(), 300u);
+  }
+  EXPECT_NE(MakeError(registry, {{"limit", "[1, 2]"}}).find("has value '[1, 2]'"),
+            std::string::npos);
+  EXPECT_NE(MakeError(registry, {{"limit", nlohmann::json::array({1, 2})}})
+                .find("has value a list of 2 items"),
+            std::string::npos);
+  // integers in [2^63, 2^64) are unsigned in JSON: refused, not wrapped to negative numbers
+  for (const nlohmann::json& value :
+       {nlohmann::json(uint64_t{18446744073709551615u}), nlohmann::json("18446744073709551615"),
+        nlohmann::json("9223372036854775809"), nlohmann::json(uint64_t{9223372036854775808u})}) {
+    const std::string what = MakeError(registry, {{"limit", value}});
+    EXPECT_NE(what.find("beyond the integers [-2^63, 2^63)"), std::string::npos)
+        << value << ": " << what;
+  }
+  // the largest int64 is an integer (then out of the env's own range)
+  EXPECT_EQ(MakeError(registry, {{"scale", "9223372036854775807"}}), "");
+  // a long string value is cut in the message
+  const std::string what = MakeError(registry, {{"mode", std::string(100000, 'x')}});
+  EXPECT_NE(what.find("has value 'xxx"), std::string::npos);
+  EXPECT_LT(what.size(), 400u);
 }
 
 TEST(RegistryTest, DuplicateIdsAndReservedOptionsAreRejected) {

@@ -102,9 +102,13 @@ TEST(CliTrainTest, TrainWritesTheRunDirectoryAndEvalReadsIt) {
   EXPECT_NE(table.out.find("step 150"), std::string::npos) << table.out;
   EXPECT_NE(table.out.find("point-nav"), std::string::npos);
 
-  // resuming a finished run is a no-op
+  // resuming a finished run is a no-op that says so
+  const std::string finished = Slurp(dir / "runs/tiny/summary.json");
   const RunResult again = RunCli("train --resume runs/tiny", dir);
   EXPECT_EQ(again.exit_code, 0) << again.err;
+  EXPECT_NE(again.err.find("finished at step 300; nothing to resume"), std::string::npos)
+      << again.err;
+  EXPECT_EQ(Slurp(dir / "runs/tiny/summary.json"), finished);
   fs::remove_all(dir);
 }
 
@@ -228,6 +232,8 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
       {"train tiny.yaml --resume nowhere", 2, "resume"},
       {"train tiny.yaml --restart", 2, "--resume"},
       {"eval nowhere", 2, "nowhere"},
+      {"eval tiny.yaml", 2, "'tiny.yaml' is not a directory"},
+      {"eval /dev/null", 2, "'/dev/null' is not a directory"},
       {"train tiny.yaml +env.options.max_episode_steps=0", 2, "[1, 1000000]"},
       {"bench agent --obs-dim 100000 --batch 1000000", 2, "GiB"},
       {"train tiny.yaml --print-config experiment.eval_episodes=0", 2, "eval_episodes"},
@@ -263,13 +269,19 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
   const std::string metrics = Slurp(dir / "runs/tiny/metrics.jsonl");
   std::ofstream(dir / "runs/tiny/checkpoints/step_000000000150/learner.pt",
                 std::ios::trunc) << "not a checkpoint";
+  const std::string summary = Slurp(dir / "runs/tiny/summary.json");
   for (const char* args : {"eval runs/tiny", "train --resume runs/tiny"}) {
+    // a finished run is not resumed at all: without its summary it is an unfinished one
+    if (std::string(args).find("--resume") != std::string::npos) {
+      fs::remove(dir / "runs/tiny/summary.json");
+    }
     const RunResult r = RunCli(args, dir);
     EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
     EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("learner.pt"), std::string::npos) << r.err;
   }
   EXPECT_EQ(Slurp(dir / "runs/tiny/metrics.jsonl"), metrics);
+  EXPECT_FALSE(summary.empty());
   fs::remove_all(dir);
 }
 
@@ -446,6 +458,11 @@ TEST(CliTrainTest, Rl2MetaTestAndBanditBaselinesFromTheCommandLine) {
                    summary["final_meta_train"]["trial_return"].get<double>());
   EXPECT_NE(train["trial_return"], json["trial_return"]);
   EXPECT_TRUE(fs::exists(dir / "runs" / "rl2" / "meta_train.jsonl"));
+  // resuming the finished meta-RL run keeps its meta-test results (it wrote them as null)
+  const std::string finished = Slurp(dir / "runs" / "rl2" / "summary.json");
+  r = RunCli("train --resume runs/rl2", dir);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(Slurp(dir / "runs" / "rl2" / "summary.json"), finished);
   // the protocol's parameters on the command line: fewer trials give other numbers
   r = RunCli("eval runs/rl2 --protocol meta-test --trials-per-task 5 --json", dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 
 #include "manyworlds/core/error.h"
@@ -10,6 +11,20 @@
 
 namespace manyworlds {
 namespace {
+
+// Text for an error message: at most 80 characters.
+std::string Shorten(std::string text) {
+  if (text.size() > 80) text = text.substr(0, 77) + "...";
+  return text;
+}
+
+// A value for an error message: a scalar as JSON, a list or mapping by its size only (a
+// deeply nested one printed in full overflowed the stack).
+std::string Describe(const nlohmann::json& value) {
+  if (value.is_array()) return "a list of " + std::to_string(value.size()) + " items";
+  if (value.is_object()) return "a mapping of " + std::to_string(value.size()) + " keys";
+  return Shorten(value.dump());
+}
 
 // Converts `value` to the declared type; throws ConfigError on failure.
 nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
@@ -20,34 +35,46 @@ nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
   };
   if (value.is_string() && spec.type != OptionType::kString) {
     const std::string text = value.get<std::string>();
-    auto parsed = nlohmann::json::parse(text, nullptr, false);
+    // only a scalar can be an option's value: nothing nested is kept
+    const auto scalars_only = [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+      return depth == 0;
+    };
+    auto parsed = text.size() > 4096 ? nlohmann::json(nlohmann::json::value_t::discarded)
+                                     : nlohmann::json::parse(text, scalars_only, false);
     if (text == "True" || text == "true") parsed = true;
     if (text == "False" || text == "false") parsed = false;
-    if (parsed.is_discarded() || parsed.is_string()) return fail("has value '" + text + "'");
+    if (parsed.is_discarded() || parsed.is_string() || parsed.is_structured()) {
+      return fail("has value '" + Shorten(text) + "'");
+    }
     return Coerce(env_id, spec, parsed);
   }
   switch (spec.type) {
     case OptionType::kInt:
+      // JSON keeps integers in [2^63, 2^64) unsigned: converted to int64 they wrapped
+      if (value.is_number_unsigned() &&
+          value.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
+        return fail("has value " + value.dump() + ", beyond the integers [-2^63, 2^63)");
+      }
       if (value.is_number_integer()) return value.get<int64_t>();
       if (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
           std::abs(value.get<double>()) < 9e15) {
         return static_cast<int64_t>(value.get<double>());
       }
-      return fail("has value " + value.dump());
+      return fail("has value " + Describe(value));
     case OptionType::kFloat:
       if (value.is_number() && std::isfinite(value.get<double>())) return value.get<double>();
-      return fail("has value " + value.dump());
+      return fail("has value " + Describe(value));
     case OptionType::kBool:
       if (value.is_boolean()) return value.get<bool>();
-      return fail("has value " + value.dump());
+      return fail("has value " + Describe(value));
     case OptionType::kString: {
-      if (!value.is_string()) return fail("has value " + value.dump());
+      if (!value.is_string()) return fail("has value " + Describe(value));
       const auto text = value.get<std::string>();
       if (!spec.choices.empty() &&
           std::find(spec.choices.begin(), spec.choices.end(), text) == spec.choices.end()) {
         std::string allowed;
         for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + c;
-        return fail("has value '" + text + "', allowed: " + allowed);
+        return fail("has value '" + Shorten(text) + "', allowed: " + allowed);
       }
       return text;
     }
@@ -173,7 +200,7 @@ Options Registry::ResolveOptions(std::string_view id, const nlohmann::json& give
   const EnvRegistration& registration = Find(id);
   if (!given.is_null() && !given.is_object()) {
     throw ConfigError("env '" + registration.id + "': options must be a key/value object, got " +
-                      given.dump());
+                      Describe(given));
   }
   std::vector<std::string> names;
   for (const auto& o : registration.options) names.push_back(o.name);
@@ -209,6 +236,15 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
                       std::to_string(kMaxEpisodeStepsLimit) + "], got " + std::to_string(limit));
   }
   if (limit >= 0) env->SetMaxEpisodeSteps(limit);
+  // the env's own limit (a horizon option) has the same bound: a 10^12-step episode never ends
+  // in practice, and a trainer checks for signals between episodes' rounds
+  const int64_t steps = env->spec().max_episode_steps;
+  if (steps > kMaxEpisodeStepsLimit) {
+    throw ConfigError("env '" + registration.id + "': its options make episodes of " +
+                      std::to_string(steps) + " steps, more than the " +
+                      std::to_string(kMaxEpisodeStepsLimit) +
+                      " allowed; lower its horizon (or set max_episode_steps)");
+  }
   if (resolved.Bool(kTerminateOnSuccessOption)) {
     env = std::make_unique<TerminateOnSuccess>(std::move(env));
   }

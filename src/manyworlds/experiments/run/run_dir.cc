@@ -46,8 +46,13 @@ TaskSet ReadTaskSet(const fs::path& path) {
 
 RunInfo RunInfo::Read(const fs::path& run_dir) {
   const RunPaths paths{run_dir};
-  if (!fs::is_directory(run_dir)) {
-    throw ConfigError("run directory '" + run_dir.string() + "' does not exist");
+  std::error_code ec;
+  if (!fs::is_directory(run_dir, ec)) {
+    const bool exists = fs::exists(fs::symlink_status(run_dir, ec));
+    throw ConfigError("run directory '" + run_dir.string() + "' " +
+                      (exists ? "is not a directory (a run directory holds config.yaml, "
+                                "tasks.json and checkpoints/)"
+                              : "does not exist"));
   }
   if (!fs::exists(paths.config()) || !fs::exists(paths.tasks())) {
     throw ConfigError("'" + run_dir.string() +
@@ -59,6 +64,27 @@ RunInfo RunInfo::Read(const fs::path& run_dir) {
   info.tasks = ReadTaskSet(paths.tasks());
   if (info.config.eval_env) info.eval_tasks = ReadTaskSet(paths.eval_tasks());
   return info;
+}
+
+std::optional<int64_t> FinishedRunStep(const fs::path& run_dir) {
+  const fs::path path = RunPaths{run_dir}.summary();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec) || fs::file_size(path, ec) > (int64_t{64} << 20) || ec) {
+    return std::nullopt;
+  }
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // summary.json is flat but for a few levels; a deeper one is not ours
+  const auto depth_limit = [](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+    return depth <= 16;
+  };
+  const nlohmann::json summary = nlohmann::json::parse(text, depth_limit, /*allow_exceptions=*/false);
+  if (!summary.is_object() || summary.value("finished", nlohmann::json()) != true) {
+    return std::nullopt;
+  }
+  const auto step = summary.find("step");
+  if (step == summary.end() || !step->is_number_integer()) return std::nullopt;
+  return step->get<int64_t>();
 }
 
 void RefuseExistingRun(const fs::path& run_dir) {

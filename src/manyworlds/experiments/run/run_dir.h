@@ -54,6 +54,11 @@ struct RunInfo {
   static RunInfo Read(const std::filesystem::path& run_dir);
 };
 
+// The step a finished run ended at: its summary.json (a regular file of at
+// most 64 MiB) parses and says "finished": true with an integer "step".
+// Otherwise (no summary, unfinished, unreadable) none; never throws.
+std::optional<int64_t> FinishedRunStep(const std::filesystem::path& run_dir);
+
 // Throws ConfigError if run_dir already holds a run (config.yaml, or a
 // non-empty checkpoints/), naming how to continue it.
 void RefuseExistingRun(const std::filesystem::path& run_dir);
