@@ -41,7 +41,8 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 # release that accepts torch 1.13; it needs gymnasium < 1.1. --no-deps keeps
 # pip from replacing Debian's torch (which reports itself as 1.13.0a0) with
 # PyPI's CUDA build.
-"${pip[@]}" install -q "gymnasium>=1.0,<1.1" "numpy>=1.21,<2" "pytest>=7" cloudpickle pandas matplotlib
+"${pip[@]}" install -q "gymnasium>=1.0,<1.1" "numpy>=1.21,<2" "pytest>=7" "pytest-xdist>=3" \
+  cloudpickle pandas matplotlib
 "${pip[@]}" install -q --no-deps "stable-baselines3>=2.4,<2.5"
 
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}
@@ -70,8 +71,12 @@ case "$metaworld_venv" in /*) ;; *) metaworld_venv=$(pwd)/$metaworld_venv ;; esa
 export MANYWORLDS_METAWORLD_PYTHON="$metaworld_venv/bin/python"
 
 # python/manyworlds is not on sys.path here: the tests import the installed package.
+# One pytest worker per core (pytest-xdist), a test file's tests on one worker (--dist
+# loadfile: the fidelity files record the official package's steps once per file).
+workers=(-n "$(nproc)" --dist loadfile)
+[ "$(nproc)" -le 1 ] && workers=()
 set +e
-"$venv/bin/python" -m pytest -p no:cacheprovider -q python/tests "$@"
+"$venv/bin/python" -m pytest -p no:cacheprovider -q "${workers[@]}" python/tests "$@"
 status=$?
 set -e
 if [ "$status" -eq 5 ]; then
