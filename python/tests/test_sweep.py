@@ -19,6 +19,9 @@ import pytest
 from conftest import REPO, cli_path
 from manyworlds.sweep import runner, spec
 
+# no usage statistics from the Ray instances and clusters these tests start
+os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+
 needs_cli = pytest.mark.skipif(cli_path() is None, reason="the manyworlds program is not built "
                                "(build/manyworlds, or set MANYWORLDS_CLI)")
 

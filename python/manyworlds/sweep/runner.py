@@ -289,6 +289,8 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
         if not pending:
             return result
         if not ray.is_initialized():
+            # no usage statistics sent from a sweep's own instance (unless the user set otherwise)
+            os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
             init: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
                                     "configure_logging": False}
             if address:

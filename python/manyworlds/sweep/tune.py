@@ -281,6 +281,8 @@ def run_search(settings: dict[str, Any], out_dir: str | pathlib.Path, *, cli: st
     cpus = settings["resources"].num_cpus or int(config["experiment"]["num_threads"])
 
     if not ray.is_initialized():
+        # no usage statistics sent from a sweep's own instance (unless the user set otherwise)
+        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
         init: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
                                 "configure_logging": False}
         if address:
