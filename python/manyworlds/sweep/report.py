@@ -63,6 +63,8 @@ from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple
 
 import numpy as np
 
+from manyworlds.sweep.runner import read_jsonl as _read_jsonl
+
 try:
     from rliable import library as rly_library
     from rliable import metrics as rly_metrics
@@ -150,20 +152,6 @@ def load_sweep(sweep_dir: str) -> dict:
 def _read_json(path: str) -> Any:
     with open(path, encoding="utf-8") as f:
         return json.load(f)
-
-
-def _read_jsonl(path: str) -> List[dict]:
-    """The objects of a .jsonl file; unparsable lines (a run killed mid-write) are skipped."""
-    rows = []
-    with open(path, encoding="utf-8", errors="replace") as f:
-        for line in f:
-            try:
-                row = json.loads(line)
-            except ValueError:
-                continue
-            if isinstance(row, dict):
-                rows.append(row)
-    return rows
 
 
 def _number(value: Any) -> Optional[float]:

@@ -251,6 +251,39 @@ def prepare(sweep: spec_module.Sweep, sweep_dir: pathlib.Path, resume: bool) -> 
     write_atomically(manifest_path, json.dumps(manifest, indent=2) + "\n")
 
 
+def ensure_ray(address: str | None, num_cpus: int | None, object_store_mb: int) -> None:
+    """Connects to Ray unless connected: `address` joins a cluster, None starts a local
+    instance with `num_cpus` CPUs (default all) and a small object store."""
+    import ray
+
+    if ray.is_initialized():
+        return
+    # no usage statistics sent from a sweep's own instance (unless the user set otherwise)
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    init: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
+                            "configure_logging": False}
+    if address:
+        init["address"] = address
+    else:
+        init["num_cpus"] = num_cpus or os.cpu_count()
+        init["object_store_memory"] = object_store_mb * 2**20
+    ray.init(**init)
+
+
+def read_jsonl(path: str | pathlib.Path) -> list[dict[str, Any]]:
+    """The objects of a .jsonl file; unparsable lines (a writer killed mid-line) are skipped."""
+    rows = []
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            try:
+                row = json.loads(line)
+            except ValueError:
+                continue
+            if isinstance(row, dict):
+                rows.append(row)
+    return rows
+
+
 def _format_duration(seconds: float) -> str:
     seconds = int(round(seconds))
     return f"{seconds // 3600}h{seconds % 3600 // 60:02d}m" if seconds >= 3600 else \
@@ -288,17 +321,7 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
         result: dict[str, Any] = {"finished": list(skipped), "failed": {}, "skipped": skipped}
         if not pending:
             return result
-        if not ray.is_initialized():
-            # no usage statistics sent from a sweep's own instance (unless the user set otherwise)
-            os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
-            init: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
-                                    "configure_logging": False}
-            if address:
-                init["address"] = address
-            else:
-                init["num_cpus"] = num_cpus or os.cpu_count()
-                init["object_store_memory"] = object_store_mb * 2**20
-            ray.init(**init)
+        ensure_ray(address, num_cpus, object_store_mb)
         task = ray.remote(_remote_train_run)
         futures = {}
         for run in pending:
@@ -348,9 +371,7 @@ def _remote_train_run(cli: str, run_json: dict[str, Any], sweep_dir: str) -> dic
 def attempts(sweep_dir: str | pathlib.Path) -> list[dict[str, Any]]:
     """The records of SWEEP_DIR/attempts.jsonl, oldest first."""
     path = pathlib.Path(sweep_dir) / ATTEMPTS
-    if not path.exists():
-        return []
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return read_jsonl(path) if path.exists() else []
 
 
 if __name__ == "__main__":  # pragma: no cover

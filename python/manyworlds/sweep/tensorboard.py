@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import contextlib
 import glob
-import json
 import math
 import os
 import re
 import shutil
 import tempfile
 from typing import Any, Iterator, List, Optional, Tuple
+
+from manyworlds.sweep.runner import read_jsonl
 
 try:
     from tensorboardX import SummaryWriter
@@ -87,15 +88,10 @@ def scalars_of_row(row: dict, prefix: str) -> Iterator[Tuple[str, float]]:
 
 def _rows(path: str) -> Iterator[Tuple[int, dict]]:
     """``(step, row)`` of a .jsonl file; unparsable lines and rows without a step are skipped."""
-    with open(path, encoding="utf-8", errors="replace") as f:
-        for line in f:
-            try:
-                row = json.loads(line)
-            except ValueError:
-                continue
-            step = _finite_number(row.get("step")) if isinstance(row, dict) else None
-            if step is not None:
-                yield int(step), row
+    for row in read_jsonl(path):
+        step = _finite_number(row.get("step"))
+        if step is not None:
+            yield int(step), row
 
 
 def _log_paths(run_dir: str) -> List[Tuple[str, str]]:

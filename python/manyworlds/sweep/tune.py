@@ -34,7 +34,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import os
 import pathlib
 import subprocess
 import time
@@ -260,7 +259,6 @@ def run_search(settings: dict[str, Any], out_dir: str | pathlib.Path, *, cli: st
                object_store_mb: int = 200) -> list[dict[str, Any]]:
     """Runs the search; returns every trial's summary, best first (also written to
     OUT/NAME/search_results.json and .csv)."""
-    import ray
     from ray import tune
     from ray.tune.schedulers import ASHAScheduler
     from ray.tune.search import BasicVariantGenerator
@@ -280,17 +278,7 @@ def run_search(settings: dict[str, Any], out_dir: str | pathlib.Path, *, cli: st
     config = runner.resolved_config(cli, probe, out_dir)
     cpus = settings["resources"].num_cpus or int(config["experiment"]["num_threads"])
 
-    if not ray.is_initialized():
-        # no usage statistics sent from a sweep's own instance (unless the user set otherwise)
-        os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
-        init: dict[str, Any] = {"include_dashboard": False, "log_to_driver": False,
-                                "configure_logging": False}
-        if address:
-            init["address"] = address
-        else:
-            init["num_cpus"] = num_cpus or os.cpu_count()
-            init["object_store_memory"] = object_store_mb * 2**20
-        ray.init(**init)
+    runner.ensure_ray(address, num_cpus, object_store_mb)
     trainable = tune.with_resources(make_trainable(cli, settings),
                                     {"cpu": cpus, "gpu": settings["resources"].num_gpus})
     scheduler = None
