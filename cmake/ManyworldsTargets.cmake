@@ -54,6 +54,7 @@ endfunction()
 #   cli       runs the built `manyworlds` program
 #   learning  trains a learner to a threshold
 #   fidelity  checks numbers against the official packages' recorded values
+#   probe     a table of hostile inputs over every env option, config key or run directory
 #   slow      takes more than about 20 s on two cores (left out of the quick suite)
 # e.g. LABELS learning_test=learning,slow (a comma separates labels).
 function(manyworlds_tests)

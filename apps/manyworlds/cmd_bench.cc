@@ -3,6 +3,7 @@
 
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/core/throughput.h"
 #include "manyworlds/envs/all.h"
 
@@ -53,10 +54,10 @@ void AddBenchCommand(CLI::App& app, CommandContext& context) {
   cmd->add_option("--env", args->env, "env id (see `manyworlds envs`)")->required();
   cmd->add_option("--num-envs", args->throughput.num_envs, "envs stepped together")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxEnvs));
   cmd->add_option("--threads", args->throughput.num_threads, "worker threads")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxThreads));
   cmd->add_option("--steps", args->throughput.steps, "env steps per repeat")
       ->capture_default_str()
       ->check(AtLeastOne());

@@ -99,6 +99,11 @@ void RunRender(const RenderArgs& args, CommandContext& context) {
   constexpr int64_t kUnlimitedCap = 100000;
   const int64_t limit = env->spec().max_episode_steps > 0 ? env->spec().max_episode_steps
                                                           : kUnlimitedCap;
+  if (args.steps > limit) {  // it used to render the episode's last frame without a word
+    throw ConfigError("render: --steps " + std::to_string(args.steps) +
+                      " is past the end of the episode of '" + args.env + "' (" +
+                      std::to_string(limit) + " steps); allowed: 0 to " + std::to_string(limit));
+  }
   const int64_t steps = args.steps >= 0 ? args.steps : (video ? limit : 0);
 
   // a signal stops the loop; the writer's destructor removes the temporary file

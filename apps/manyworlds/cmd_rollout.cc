@@ -9,6 +9,7 @@
 #include "apps/manyworlds/cli_util.h"
 #include "apps/manyworlds/commands.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/envs/all.h"
 
 namespace manyworlds::cli {
@@ -142,7 +143,7 @@ void AddRolloutCommand(CLI::App& app, CommandContext& /*context*/) {
                   "threads running episodes at once (each with its own env copy); the results "
                   "do not depend on it")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxThreads));
   cmd->add_flag("--json", args->json, "print the summary as JSON");
   cmd->callback([args] { RunRollout(*args); });
 }

@@ -91,7 +91,9 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "error: " << e.what() << "\n";
+    // one line: libtorch's errors carry a backtrace of 30-40 frames after their message
+    const std::string what = e.what();
+    std::cerr << "error: " << what.substr(0, what.find('\n')) << "\n";
     return 1;
   }
   if (!StandardOutputWritten() && context.exit_code == 0) return 1;

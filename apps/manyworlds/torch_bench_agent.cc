@@ -13,8 +13,10 @@
 #include "apps/manyworlds/commands.h"
 #include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/experiments/agent_bench.h"
 #include "manyworlds/experiments/algorithms.h"
+#include "manyworlds/experiments/trainer.h"
 
 namespace manyworlds::cli {
 namespace {
@@ -100,25 +102,27 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
   cmd->add_option("--shards", args->sizes.shards,
                   "data-parallel shards of each update (SacConfig update_shards)")
       ->capture_default_str()
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxThreads));
   cmd->add_option("--update-threads", args->sizes.update_threads,
                   "threads running the shards (0: one per shard, at most one per core)")
       ->capture_default_str()
       ->check(Unsigned());
   cmd->add_option("--torch-threads", args->sizes.torch_threads,
                   "libtorch intra-op threads (default: 1, as every learner sets)")
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxThreads));
   cmd->add_option("--blas-threads", args->sizes.blas_threads,
                   "OpenBLAS threads (default: OPENBLAS_NUM_THREADS, else one per core); at most "
                   "one of --torch-threads and --blas-threads may be > 1")
-      ->check(AtLeastOne());
+      ->check(AtLeastOne(kMaxThreads));
   cmd->add_option("--seed", args->sizes.seed, "seed of the networks and the random batches")
       ->capture_default_str()
       ->check(Unsigned());
   cmd->add_flag("--json", args->json,
                 "print JSON: updates_per_s (median), samples, ms_per_update, the configuration "
                 "and the threads used");
-  cmd->callback([args] { RunBenchAgent(*args); });
+  cmd->callback([args] {
+    experiments::NameMemorySettingsOnFailure([&] { RunBenchAgent(*args); });
+  });
 }
 
 }  // namespace manyworlds::cli

@@ -12,6 +12,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/loops/collection_bench.h"
 #include "manyworlds/experiments/train_config.h"
+#include "manyworlds/experiments/trainer.h"
 
 namespace manyworlds::cli {
 namespace {
@@ -70,7 +71,9 @@ void AddBenchCollectSubcommand(CLI::App& bench, CommandContext&) {
       ->capture_default_str()
       ->check(AtLeastOne());
   cmd->add_flag("--json", args->json, "print JSON (medians, the per-repeat samples, ratio)");
-  cmd->callback([args] { RunBenchCollect(*args); });
+  cmd->callback([args] {
+    experiments::NameMemorySettingsOnFailure([&] { RunBenchCollect(*args); });
+  });
 }
 
 }  // namespace manyworlds::cli

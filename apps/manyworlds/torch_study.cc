@@ -21,6 +21,7 @@
 #include "apps/manyworlds/stop_signals.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/studies/boxworld_study.h"
+#include "manyworlds/experiments/trainer.h"
 
 namespace manyworlds::cli {
 namespace {
@@ -116,8 +117,20 @@ void RunStudy(StudyArgs& args, CommandContext& context) {
   const StopSignals signals;
   callbacks.stop_requested = [] { return StopSignals::received() != 0; };
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<experiments::StudyRow> rows = experiments::RunBoxWorldStudy(o, callbacks);
+  std::vector<experiments::StudyRow> rows;
+  try {
+    rows = experiments::RunBoxWorldStudy(o, callbacks);
+  } catch (const experiments::StudyStopped& e) {
+    // as train: a signal stops at the next safe point, and the exit code is 128 + the signal
+    status.Note(std::string("study: ") + (StopSignals::received() ? "interrupted; " : "") +
+                e.what());
+    context.exit_code = StopSignals::received() ? StopSignals::exit_code() : 1;
+    return;
+  }
   experiments::WriteStudyTables(rows, o);
+  // a signal during the last evaluation: the tables are complete and written, and the exit
+  // code still says the command was interrupted
+  if (StopSignals::received()) context.exit_code = StopSignals::exit_code();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (args.json) {
     PrintJson(experiments::StudyTableJson(rows, o));
@@ -171,7 +184,9 @@ void AddStudyCommand(CLI::App& app, CommandContext& context) {
                   "the paper's code; anywhere: agent and boxes start anywhere (default: "
                   "complex paper, simple anywhere)");
   cmd->add_flag("--json", args->json, "print the table as JSON instead of markdown");
-  cmd->callback([args, &context] { RunStudy(*args, context); });
+  cmd->callback([args, &context] {
+    experiments::NameMemorySettingsOnFailure([&] { RunStudy(*args, context); });
+  });
 }
 
 }  // namespace manyworlds::cli

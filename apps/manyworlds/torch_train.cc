@@ -303,6 +303,23 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
                     (available.empty() ? "none" : available) + ", or 'latest')");
 }
 
+// Runs `use` on `checkpoint`, which FindCheckpoint(run_dir, which) chose. A run that is
+// training prunes its old checkpoints (experiment.keep_checkpoints) as it writes new ones, so
+// the latest may vanish between its choice and its reading: then the newest is chosen again.
+template <class F>
+auto UsingCheckpoint(const fs::path& run_dir, const std::string& which, fs::path& checkpoint,
+                     F&& use) {
+  constexpr int kAttempts = 10;
+  for (int attempt = 1;; ++attempt) {
+    try {
+      return use(checkpoint);
+    } catch (const std::exception&) {
+      if (which != "latest" || fs::exists(checkpoint) || attempt == kAttempts) throw;
+      checkpoint = FindCheckpoint(run_dir, which);
+    }
+  }
+}
+
 // eval CONFIG --policy scripted|random: the config's protocols driven by the
 // envs' own policies, no run needed.
 void RunPolicyEval(const EvalArgs& args) {
@@ -353,7 +370,7 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
   if (args.seed) throw ConfigError("eval: --seed is for --policy (a run's protocols use its seed)");
   experiments::RunInfo run = experiments::RunInfo::Read(args.run_dir);
   run.config = WithMetaTestOptions(run.config, args.meta_test);
-  const fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
+  fs::path checkpoint = FindCheckpoint(args.run_dir, args.checkpoint);
   if (const auto warning = experiments::EvaluationThreadWarning(checkpoint)) {
     std::cerr << "warning: " << *warning << "\n";
   }
@@ -368,8 +385,11 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
                 << (test ? "held-out" : "training") << " tasks, "
                 << experiments::DescribeProtocol(run.config.meta_test) << "\n";
     }
-    nlohmann::json result = test ? experiments::MetaTestCheckpoint(run, checkpoint)
-                                 : experiments::MetaTrainCheckpoint(run, checkpoint);
+    nlohmann::json result =
+        UsingCheckpoint(args.run_dir, args.checkpoint, checkpoint, [&](const fs::path& chosen) {
+          return test ? experiments::MetaTestCheckpoint(run, chosen)
+                      : experiments::MetaTrainCheckpoint(run, chosen);
+        });
     if (args.json) {
       PrintJson({{"checkpoint", checkpoint.string()}, {test ? "meta_test" : "meta_train", result}});
       return;
@@ -384,7 +404,10 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
   if (context.progress || isatty(STDERR_FILENO)) {
     std::cerr << "eval: " << checkpoint.string() << ", " << episodes << " episodes per task\n";
   }
-  const EvalResult result = experiments::EvaluateCheckpoint(run, checkpoint, episodes);
+  const EvalResult result =
+      UsingCheckpoint(args.run_dir, args.checkpoint, checkpoint, [&](const fs::path& chosen) {
+        return experiments::EvaluateCheckpoint(run, chosen, episodes);
+      });
   if (args.json) {
     nlohmann::json json = result.ToJson();
     json["checkpoint"] = checkpoint.string();
@@ -399,10 +422,9 @@ void RunEval(const EvalArgs& args, const CommandContext& context) {
 // A meta-RL run (one with held-out tasks): `trials` trials per held-out
 // task, each of the run's exploration episodes, adaptation, then its
 // evaluation episodes, one row per episode.
-void RolloutMetaLearner(const experiments::RunInfo& run, const fs::path& run_dir,
-                        const fs::path& checkpoint, int trials, uint64_t seed, bool json) {
-  const experiments::MetaTestResult result =
-      experiments::MetaTestCheckpointEpisodes(run, checkpoint, trials, seed);
+void PrintMetaLearnerRollout(const fs::path& run_dir, const fs::path& checkpoint,
+                             const experiments::MetaTestResult& result, int trials,
+                             uint64_t seed, bool json) {
   auto success = [](const std::optional<bool>& s) {
     return s ? nlohmann::json(*s) : nlohmann::json();
   };
@@ -460,6 +482,7 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
     run_dir = fs::path(path).parent_path().parent_path();
   }
   const experiments::RunInfo run = experiments::RunInfo::Read(run_dir);
+  const std::string which = checkpoint.empty() ? "latest" : checkpoint.string();
   if (checkpoint.empty()) {
     checkpoint = FindCheckpoint(run_dir, "latest");
   } else {
@@ -471,10 +494,16 @@ void RunCheckpointRollout(const std::string& path, const std::string& env_id, in
                       "'); leave --env out to use the run's");
   }
   if (run.eval_tasks) {
-    RolloutMetaLearner(run, run_dir, checkpoint, episodes, seed, json);
+    const experiments::MetaTestResult result =
+        UsingCheckpoint(run_dir, which, checkpoint, [&](const fs::path& chosen) {
+          return experiments::MetaTestCheckpointEpisodes(run, chosen, episodes, seed);
+        });
+    PrintMetaLearnerRollout(run_dir, checkpoint, result, episodes, seed, json);
     return;
   }
-  const EvalResult result = experiments::EvaluateCheckpoint(run, checkpoint, episodes, seed);
+  const EvalResult result = UsingCheckpoint(run_dir, which, checkpoint, [&](const fs::path& c) {
+    return experiments::EvaluateCheckpoint(run, c, episodes, seed);
+  });
   if (json) {
     nlohmann::json tasks = nlohmann::json::array();
     for (const auto& t : result.per_task) {
@@ -534,7 +563,9 @@ void AddTrainCommand(CLI::App& app, CommandContext& context) {
   cmd->add_flag("--print-config", args->print_config,
                 "print the resolved config (defaults, file, overrides; validated) as JSON and "
                 "exit without training or writing anything");
-  cmd->callback([args, &context] { RunTrain(*args, context); });
+  cmd->callback([args, &context] {
+    experiments::NameMemorySettingsOnFailure([&] { RunTrain(*args, context); });
+  });
 }
 
 void AddEvalCommand(CLI::App& app, CommandContext& context) {
@@ -577,7 +608,9 @@ void AddEvalCommand(CLI::App& app, CommandContext& context) {
                 "{meta_test: {success_rate, per_task, pre_adaptation_success_rate, ...}}, "
                 "with meta-train {meta_train: {...}}) "
                 "instead of a table");
-  cmd->callback([args, &context] { RunEval(*args, context); });
+  cmd->callback([args, &context] {
+    experiments::NameMemorySettingsOnFailure([&] { RunEval(*args, context); });
+  });
 }
 
 }  // namespace manyworlds::cli

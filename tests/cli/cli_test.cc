@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "manyworlds/config/yaml.h"
+#include "tests/support/child_cases.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/scratch_dir.h"
 
@@ -166,6 +167,57 @@ TEST(CliTest, OutputThatCannotBeWrittenIsAnError) {
   EXPECT_EQ(limited.exit_code, 1) << limited.err;
   EXPECT_TRUE(IsOneErrorLine(limited.err)) << limited.err;
   EXPECT_NE(limited.err.find("File too large"), std::string::npos) << limited.err;
+  fs::remove_all(dir);
+}
+
+// Counts come from one place (core/limits.h) and memory is estimated before envs are made:
+// typos of 10^8 envs or 10^9 threads are one line, not 0.5 GB/s of growth or an abort.
+TEST(CliTest, CountsMemoryAndThreadsThatCannotWorkAreOneErrorLine) {
+  for (const char* args :
+       {"bench env --env cartpole --num-envs 100000000", "bench env --env cartpole --threads 300",
+        "rollout --env cartpole --threads 1000000000"}) {
+    const RunResult r = RunCli(args);
+    EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
+  }
+  EXPECT_NE(RunCli("bench env --env cartpole --num-envs 100000000").err.find("[1, 65536]"),
+            std::string::npos);
+  if (test_support::kAddressSanitizer) GTEST_SKIP() << "ulimit -v: ASan reserves terabytes";
+  const fs::path dir = ScratchDir();
+  // 60,000 manipulation envs under a 3 GB address-space limit: refused after the first few
+  // are made, from their measured size
+  const RunResult envs = test_support::RunProgram(
+      "/bin/sh", "-c \"ulimit -v 3000000; '" + std::string(MANYWORLDS_CLI_PATH) +
+                     "' bench env --env reach --num-envs 60000 --steps 10 --repeats 1\"", dir);
+  EXPECT_EQ(envs.exit_code, 2) << envs.err;
+  EXPECT_TRUE(IsOneErrorLine(envs.err)) << envs.err;
+  EXPECT_NE(envs.err.find("60000 envs needs about"), std::string::npos) << envs.err;
+  EXPECT_NE(envs.err.find("ulimit"), std::string::npos) << envs.err;
+  // threads the system will not start: one line (it was "terminate called without an active
+  // exception", SIGABRT)
+  const RunResult threads = test_support::RunProgram(
+      "/bin/sh", "-c \"ulimit -v 1500000; '" + std::string(MANYWORLDS_CLI_PATH) +
+                     "' rollout --env cartpole --episodes 300 --threads 256\"", dir);
+  EXPECT_EQ(threads.exit_code, 1) << threads.err;
+  EXPECT_TRUE(IsOneErrorLine(threads.err)) << threads.err;
+  EXPECT_NE(threads.err.find("cannot start thread"), std::string::npos) << threads.err;
+  fs::remove_all(dir);
+}
+
+// Options that were accepted and then misbehaved: the reward scale of the recurrent
+// observation put inf into observations; --steps past the episode rendered its last frame
+TEST(CliTest, OptionsOutsideTheirRangeAreRefusedBeforeAnythingRuns) {
+  const RunResult scale =
+      RunCli("rollout --env point-nav --option recurrent_meta_obs=true "
+             "--option recurrent_meta_obs_reward_scale=1e308");
+  EXPECT_EQ(scale.exit_code, 2) << scale.err;
+  EXPECT_NE(scale.err.find("outside [-1000, 1000]"), std::string::npos) << scale.err;
+  const fs::path dir = ScratchDir();
+  const RunResult render = RunCli("render --env reach --steps 1000000000 --out x.png", dir);
+  EXPECT_EQ(render.exit_code, 2) << render.err;
+  EXPECT_NE(render.err.find("past the end of the episode of 'reach' (500 steps)"), std::string::npos)
+      << render.err;
+  EXPECT_FALSE(fs::exists(dir / "x.png"));
   fs::remove_all(dir);
 }
 

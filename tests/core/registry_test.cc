@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "manyworlds/core/error.h"
 #include "tests/core/toy_env.h"
 
@@ -125,10 +127,46 @@ TEST(RegistryTest, HostileOptionValuesAreShortOneLineErrors) {
   }
   // the largest int64 is an integer (then out of the env's own range)
   EXPECT_EQ(MakeError(registry, {{"scale", "9223372036854775807"}}), "");
-  // a long string value is cut in the message
-  const std::string what = MakeError(registry, {{"mode", std::string(100000, 'x')}});
-  EXPECT_NE(what.find("has value 'xxx"), std::string::npos);
+  // a string value longer than 4096 characters is refused by its length, not echoed (the box
+  // world echoed 100,000 characters); a shorter one is cut in the message
+  std::string what = MakeError(registry, {{"mode", std::string(100000, 'x')}});
+  EXPECT_NE(what.find("has a value of 100000 characters, more than 4096"), std::string::npos)
+      << what;
+  what = MakeError(registry, {{"mode", std::string(4000, 'x')}});
+  EXPECT_NE(what.find("has value 'xxx"), std::string::npos) << what;
   EXPECT_LT(what.size(), 400u);
+}
+
+TEST(RegistryTest, RangesAndLongChoiceListsGiveShortMessages) {
+  Registry registry;
+  std::vector<std::string> names;
+  for (int i = 0; i < 50; ++i) names.push_back("task-number-" + std::to_string(i));
+  OptionSpec ranged{"gain", OptionType::kFloat, 1.0, "a gain", {}, -10.0, 10.0};
+  registry.Add({"many", "test", "", {{"task", OptionType::kString, names[0], "a task", names},
+                                     ranged},
+                [](const Options&) -> std::unique_ptr<Env> {
+                  return std::make_unique<testing::ToyEnv>(false, 5);
+                }});
+  auto error = [&](const nlohmann::json& options) {
+    try {
+      registry.Make("many", options);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  // 50 names are summarised with the nearest one (mt1's task list made 760 characters)
+  const std::string task = error({{"task", "task-number-7x"}});
+  EXPECT_NE(task.find("did you mean 'task-number-7'"), std::string::npos) << task;
+  EXPECT_NE(task.find("one of 50 names (task-number-0"), std::string::npos) << task;
+  EXPECT_LT(task.size(), 400u) << task;
+  // a declared range is checked before the env is made
+  EXPECT_NE(error({{"gain", 11.0}}).find("outside [-10, 10]"), std::string::npos);
+  EXPECT_NE(error({{"gain", "-1e308"}}).find("outside [-10, 10]"), std::string::npos);
+  EXPECT_EQ(error({{"gain", 10.0}}), "");
+  // non-finite numbers are named as such (JSON would print them as null)
+  EXPECT_NE(error({{"gain", std::nan("")}}).find("has value nan"), std::string::npos)
+      << error({{"gain", std::nan("")}});
 }
 
 TEST(RegistryTest, DuplicateIdsAndReservedOptionsAreRejected) {

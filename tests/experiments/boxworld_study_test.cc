@@ -138,6 +138,56 @@ TEST(BoxWorldStudyTest, InitFromNeedsAMatchingCheckpoint) {
   c.experiment.run_dir = (o.out_dir / "ft_ok").string();
   c.agent = StudyMethodConfig(o, "finetune").agent;
   EXPECT_EQ(message(c), "(accepted)");
+  // a run directory stands for its newest intact checkpoint
+  c.experiment.run_dir = (o.out_dir / "ft_run").string();
+  c.experiment.init_from = (o.out_dir / "oracle").string();
+  EXPECT_EQ(message(c), "(accepted)");
+  // verified as resume and eval verify: one flipped bit of learner.pt, or no state.json, is a
+  // damaged checkpoint (both used to be loaded)
+  const fs::path flipped = o.out_dir / "flipped";
+  fs::copy(checkpoint, flipped);
+  {
+    std::fstream learner(flipped / "learner.pt", std::ios::in | std::ios::out | std::ios::binary);
+    learner.seekg(100);
+    const char byte = static_cast<char>(learner.get());
+    learner.seekp(100);
+    learner.put(static_cast<char>(byte ^ 0x01));
+  }
+  c.experiment.run_dir = (o.out_dir / "ft_flipped").string();
+  c.experiment.init_from = flipped.string();
+  EXPECT_NE(message(c).find("is damaged: learner.pt"), std::string::npos) << message(c);
+  const fs::path stateless = o.out_dir / "stateless";
+  fs::copy(checkpoint, stateless);
+  fs::remove(stateless / "state.json");
+  c.experiment.run_dir = (o.out_dir / "ft_stateless").string();
+  c.experiment.init_from = stateless.string();
+  EXPECT_NE(message(c).find("is damaged: state.json is missing"), std::string::npos)
+      << message(c);
+  fs::remove_all(o.out_dir);
+}
+
+TEST(BoxWorldStudyTest, AStopRequestStopsBeforeTheEvaluationAndTheStudyResumes) {
+  const StudyOptions o = Tiny("stop", {"oracle"});
+  const std::vector<StudyRow> first = RunBoxWorldStudy(o);
+  // the run is trained, its row not yet written: the study stops before the evaluation (it
+  // used to evaluate, write the tables and exit 0 while a signal waited)
+  const fs::path result = o.out_dir / "oracle" / "result.json";
+  ASSERT_TRUE(fs::exists(result));
+  fs::remove(result);
+  StudyCallbacks stopping;
+  stopping.stop_requested = [] { return true; };
+  try {
+    RunBoxWorldStudy(o, stopping);
+    ADD_FAILURE() << "the study did not stop";
+  } catch (const StudyStopped& e) {
+    EXPECT_NE(std::string(e.what()).find("before the evaluate phase of 'oracle'"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(fs::exists(result));
+  const std::vector<StudyRow> resumed = RunBoxWorldStudy(o);
+  ASSERT_EQ(resumed.size(), 1u);
+  EXPECT_DOUBLE_EQ(resumed[0].mean_reward, first[0].mean_reward);
   fs::remove_all(o.out_dir);
 }
 

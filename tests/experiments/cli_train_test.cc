@@ -153,10 +153,9 @@ int64_t LastLoggedStep(const fs::path& run) {
 
 // Runs `manyworlds ARGS...` in `dir`, sends `signal` once the run's metrics
 // log is past `after_step`, and returns the exit status (stderr to err.txt).
-int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& args,
-                         const fs::path& run, int64_t after_step, int signal) {
+// Starts `manyworlds ARGS...` in `dir` (stderr to err.txt) and returns its pid.
+pid_t StartCli(const fs::path& dir, const std::vector<std::string>& args) {
   const pid_t pid = fork();
-  if (pid < 0) return -1;
   if (pid == 0) {
     if (chdir(dir.c_str()) != 0 || !freopen("err.txt", "w", stderr)) _exit(99);
     std::vector<char*> argv;
@@ -167,6 +166,13 @@ int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& ar
     execv(MANYWORLDS_CLI_PATH, argv.data());
     _exit(98);
   }
+  return pid;
+}
+
+int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& args,
+                         const fs::path& run, int64_t after_step, int signal) {
+  const pid_t pid = StartCli(dir, args);
+  if (pid < 0) return -1;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
   while (LastLoggedStep(run) <= after_step && std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -210,6 +216,60 @@ TEST(CliTrainTest, SignalsStopTrainingAtACheckpoint) {
               std::string::npos)
         << Slurp(dir / "err.txt");
     EXPECT_GT(LastLoggedStep(run), last);
+  }
+  fs::remove_all(dir);
+}
+
+// eval and `rollout --policy checkpoint:` read a run that is training, whose trainer prunes
+// its old checkpoint (keep_checkpoints 1) right after writing a new one: a checkpoint that
+// vanished after it was chosen is chosen again (3 of 10 tries used to fail, "cannot read
+// .../state.json").
+TEST(CliTrainTest, ReadingARunThatIsTrainingChoosesAgainWhenItsCheckpointIsPruned) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  const pid_t trainer =
+      StartCli(dir, {"train", "tiny.yaml", "experiment.steps_per_task=1000000",
+                     "experiment.checkpoint_every=10", "experiment.keep_checkpoints=1",
+                     "experiment.eval_every=0", "experiment.run_dir=live"});
+  ASSERT_GT(trainer, 0);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(dir / "live/checkpoints/latest") &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  for (int i = 0; i < 10; ++i) {
+    const RunResult eval = RunCli("eval live --episodes 1 --json", dir);
+    EXPECT_EQ(eval.exit_code, 0) << eval.err;
+    const RunResult rollout = RunCli("rollout --policy checkpoint:live --episodes 1 --json", dir);
+    EXPECT_EQ(rollout.exit_code, 0) << rollout.err;
+  }
+  kill(trainer, SIGTERM);
+  int status = 0;
+  waitpid(trainer, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 128 + SIGTERM) << Slurp(dir / "err.txt");
+  fs::remove_all(dir);
+}
+
+// Sizes and step sizes that cannot work: one line that names the setting, before anything
+// is allocated or trained (they ended in a 30-frame torch backtrace, or as the env's "action
+// element 0 is -nan").
+TEST(CliTrainTest, SizesAndStepSizesThatCannotWorkAreOneLineNamingTheSetting) {
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  const RunResult batch = RunCli("train tiny.yaml agent.batch_size=100000000", dir);
+  EXPECT_EQ(batch.exit_code, 2) << batch.err;
+  EXPECT_TRUE(IsOneErrorLine(batch.err)) << batch.err;
+  EXPECT_NE(batch.err.find("agent.batch_size"), std::string::npos) << batch.err;
+  const std::string source = MANYWORLDS_TEST_SOURCE_DIR;
+  for (const std::string& args :
+       {"train " + source + "/configs/point_nav_maml.yaml agent.inner_lr=1e308",
+        "train " + source + "/configs/point_nav_pearl.yaml agent.log_std_min=-1e308"}) {
+    const RunResult r = RunCli(args + " experiment.steps_per_task=2000 experiment.run_dir=d" +
+                                   std::to_string(args.size()),
+                               dir);
+    EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.err;
+    EXPECT_TRUE(IsOneErrorLine(r.err)) << args << "\n" << r.err;
+    EXPECT_NE(r.err.find("diverged"), std::string::npos) << args << "\n" << r.err;
   }
   fs::remove_all(dir);
 }

@@ -27,7 +27,7 @@ std::vector<Shape> ParseShapes(const std::string& env_id, const std::string& tex
     const std::optional<Shape> shape = ParseShape(item);
     if (!shape) {
       throw ConfigError("env '" + env_id + "': option 'box_shapes' takes a comma-separated list " +
-                        "of box, cylinder, sphere; got '" + text + "'");
+                        "of box, cylinder, sphere; got '" + ShortenForMessage(text) + "'");
     }
     if (std::find(shapes.begin(), shapes.end(), *shape) == shapes.end()) shapes.push_back(*shape);
   }
@@ -78,7 +78,8 @@ std::vector<OptionSpec> BoxWorldOptions() {
        "floor_size, [success_radius_ratio, (1 - 2 success_radius_ratio) / sqrt(2)]"},
       {"agent_start", OptionType::kString, std::string("anywhere"),
        "anywhere, or corner: a random corner, up to 0.15 x floor_size from both walls (the "
-       "study's code: 0.55 m on its 5 m floor)"},
+       "study's code: 0.55 m on its 5 m floor)",
+       {"anywhere", "corner"}},
       {"box_start_gap", OptionType::kFloat, d.starts.box_start_gap,
        "-1: boxes start anywhere; >= 0: every box starts at most this many m (footprint to "
        "footprint) from the agent, at a random angle, or with agent_start=corner facing the "
@@ -131,12 +132,7 @@ std::unique_ptr<Env> MakeBoxWorld(BoxTask task, const Options& o) {
   d.success_radius_ratio = o.Float("success_radius_ratio");
   d.min_target_distance_ratio = o.Float("min_target_distance_ratio");
   d.starts.box_start_gap = o.Float("box_start_gap");
-  const std::string agent_start = o.String("agent_start");
-  if (agent_start != "anywhere" && agent_start != "corner") {
-    throw ConfigError("env '" + id + "': option 'agent_start' must be anywhere or corner, got '" +
-                      agent_start + "'");
-  }
-  d.starts.agent_in_corner = agent_start == "corner";
+  d.starts.agent_in_corner = o.String("agent_start") == "corner";  // the registry checked it
   d.layout_seed = o.Int("layout_seed");
   const int64_t max_boxes = o.Int("max_boxes");
   if (max_boxes < 1 || max_boxes > kMaxBoxesLimit) {

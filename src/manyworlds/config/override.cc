@@ -20,7 +20,8 @@ std::vector<std::string> SplitPath(std::string_view path, std::string_view text)
     const std::string_view part =
         path.substr(start, dot == std::string_view::npos ? dot : dot - start);
     if (part.empty()) {
-      throw ConfigError("override '" + std::string(text) + "': the key '" + std::string(path) +
+      throw ConfigError("override '" + std::string(text) + "': the key '" +
+                        ShortenForMessage(std::string(path)) +
                         "' has an empty part");
     }
     parts.emplace_back(part);
@@ -45,7 +46,8 @@ std::string Join(const std::vector<std::string>& parts, size_t count) {
 }  // namespace
 
 void ApplyOverride(nlohmann::json& config, std::string_view override_text) {
-  const std::string text(override_text);
+  // for messages only: an override of 5,000 characters is shown cut to 80
+  const std::string text = ShortenForMessage(std::string(override_text));
   std::string_view body = override_text;
   Mode mode = Mode::kReplace;
   if (body.starts_with("++")) {
@@ -82,7 +84,7 @@ void ApplyOverride(nlohmann::json& config, std::string_view override_text) {
       node = &(*node)[*index];
       if (last) {
         if (mode == Mode::kAdd) {
-          throw ConfigError("override '" + text + "': '" + std::string(path) +
+          throw ConfigError("override '" + text + "': '" + ShortenForMessage(std::string(path)) +
                             "' already exists; drop the '+' to replace it");
         }
         *node = std::move(value);
@@ -107,7 +109,7 @@ void ApplyOverride(nlohmann::json& config, std::string_view override_text) {
       // '+' creates the missing sections on the way.
       it = node->emplace(part, last ? nlohmann::json() : nlohmann::json::object()).first;
     } else if (last && mode == Mode::kAdd) {
-      throw ConfigError("override '" + text + "': '" + std::string(path) +
+      throw ConfigError("override '" + text + "': '" + ShortenForMessage(std::string(path)) +
                         "' already exists; drop the '+' to replace it");
     }
     node = &*it;

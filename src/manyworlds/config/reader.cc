@@ -16,6 +16,10 @@ const nlohmann::json& EmptyObject() {
 }
 
 std::string Describe(const nlohmann::json& value) {
+  if (value.is_number_float() && !std::isfinite(value.get<double>())) {  // JSON writes null
+    const double x = value.get<double>();
+    return std::string(std::isnan(x) ? "nan" : x > 0 ? "inf" : "-inf") + " (number)";
+  }
   std::string shown = value.dump();
   if (shown.size() > 40) shown = shown.substr(0, 37) + "...";
   return shown + " (" + value.type_name() + ")";
@@ -107,9 +111,14 @@ void ConfigReader::Read(std::string_view key, float& value) {
   value = static_cast<float>(d);
 }
 
+// Config strings (names, paths) are short: a longer one is refused before anything echoes it.
+constexpr size_t kMaxStringChars = 4096;
+
 void ConfigReader::Read(std::string_view key, std::string& value) {
   if (const auto* v = Find(key)) {
-    if (!v->is_string()) TypeError(key, *v, "a string");
+    if (!v->is_string() || v->get_ref<const std::string&>().size() > kMaxStringChars) {
+      TypeError(key, *v, "a string of at most " + std::to_string(kMaxStringChars) + " characters");
+    }
     value = v->get<std::string>();
   }
 }
@@ -119,7 +128,10 @@ void ConfigReader::Read(std::string_view key, std::vector<std::string>& value) {
     if (!v->is_array()) TypeError(key, *v, "a list of strings");
     std::vector<std::string> out;
     for (const auto& item : *v) {
-      if (!item.is_string()) TypeError(key, *v, "a list of strings");
+      if (!item.is_string() || item.get_ref<const std::string&>().size() > kMaxStringChars) {
+        TypeError(key, *v, "a list of strings of at most " + std::to_string(kMaxStringChars) +
+                               " characters");
+      }
       out.push_back(item.get<std::string>());
     }
     value = std::move(out);

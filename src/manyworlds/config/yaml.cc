@@ -13,6 +13,7 @@
 #include <regex>
 #include <sstream>
 
+#include "manyworlds/core/atomic_file.h"
 #include "manyworlds/core/error.h"
 
 namespace manyworlds {
@@ -341,14 +342,13 @@ nlohmann::json ParseYaml(std::string_view text, std::string_view source) {
 }
 
 nlohmann::json LoadYamlFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    throw ConfigError("cannot read config file '" + path.string() + "': " + std::strerror(errno));
+  std::string text;
+  try {
+    text = ReadRegularFile(path, std::uintmax_t{64} << 20);  // a pipe or device never blocks
+  } catch (const Error& e) {
+    throw ConfigError(std::string("config file: ") + e.what());
   }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw ConfigError("cannot read config file '" + path.string() + "'");
-  return ParseYaml(text.str(), path.string());
+  return ParseYaml(text, path.string());
 }
 
 std::string DumpYaml(const nlohmann::json& json) {

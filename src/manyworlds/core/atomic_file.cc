@@ -73,4 +73,50 @@ void AtomicWriteFile(const std::filesystem::path& path, std::string_view content
   }
 }
 
+std::string ReadRegularFile(const std::filesystem::path& path, std::uintmax_t max_bytes) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (ec || !fs::exists(status)) {
+    throw Error("cannot read '" + path.string() + "': " +
+                (ec ? ec.message() : std::string("no such file")));
+  }
+  if (!fs::is_regular_file(status)) {
+    const char* kind = fs::is_directory(status) ? "a directory"
+                       : fs::is_fifo(status)    ? "a pipe (FIFO)"
+                       : fs::is_socket(status)  ? "a socket"
+                                                : "a device or special file";
+    throw Error("cannot read '" + path.string() + "': it is " + kind + ", not a regular file");
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > max_bytes) {
+    throw Error("cannot read '" + path.string() + "': " + std::to_string(size) +
+                " bytes, more than the " + std::to_string(max_bytes) + " allowed");
+  }
+  // O_NONBLOCK: a regular file never blocks, and a file swapped for a FIFO after the check
+  // returns at once instead of waiting for a writer
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) throw Error("cannot read '" + path.string() + "': " + std::strerror(errno));
+  std::string content;
+  char buffer[1 << 16];
+  for (;;) {
+    const ssize_t n = ::read(fd, buffer, sizeof(buffer));
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      throw Error("cannot read '" + path.string() + "': " + std::strerror(error));
+    }
+    if (n == 0) break;
+    content.append(buffer, static_cast<size_t>(n));
+    if (content.size() > max_bytes) {
+      ::close(fd);
+      throw Error("cannot read '" + path.string() + "': more than the " +
+                  std::to_string(max_bytes) + " bytes allowed");
+    }
+  }
+  ::close(fd);
+  return content;
+}
+
 }  // namespace manyworlds

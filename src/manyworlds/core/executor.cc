@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/core/rng.h"
 
 // Threading design.
@@ -148,8 +149,13 @@ BatchedExecutor::Impl::Impl(std::vector<std::unique_ptr<Env>> env_list, Executor
     throw ConfigError("BatchedExecutor: num_threads must be >= 1, got " +
                       std::to_string(options.num_threads));
   }
-  if (envs.size() > static_cast<size_t>(INT32_MAX)) {
-    throw ConfigError("BatchedExecutor: too many envs (" + std::to_string(envs.size()) + ")");
+  if (options.num_threads > kMaxThreads) {
+    throw ConfigError("BatchedExecutor: num_threads must be at most " +
+                      std::to_string(kMaxThreads) + ", got " + std::to_string(options.num_threads));
+  }
+  if (envs.size() > static_cast<size_t>(kMaxEnvs)) {
+    throw ConfigError("BatchedExecutor: at most " + std::to_string(kMaxEnvs) + " envs, got " +
+                      std::to_string(envs.size()));
   }
   for (size_t i = 0; i < envs.size(); ++i) {
     if (!envs[i]) throw ConfigError("BatchedExecutor: env " + std::to_string(i) + " is null");
@@ -212,14 +218,15 @@ BatchedExecutor::Impl::Impl(std::vector<std::unique_ptr<Env>> env_list, Executor
   workers.reserve(threads);
   try {
     for (int w = 0; w + 1 < threads; ++w) StartWorker(w);
-  } catch (...) {
+  } catch (const std::exception& e) {
     stop.store(true);
     for (size_t w = 0; w < workers.size(); ++w) {
       slots[w].wake.fetch_add(1, std::memory_order_release);
       slots[w].wake.notify_one();
       workers[w].join();
     }
-    throw;
+    ThrowThreadsNotStarted(e, static_cast<int64_t>(workers.size()) + 1, threads,
+                           "the number of worker threads");
   }
 }
 

@@ -20,11 +20,36 @@ bool KeepFreedMemoryForReuse();
 // Physical memory of this machine in bytes (0 if unknown).
 uint64_t PhysicalMemoryBytes();
 
-// Throws ConfigError when `bytes` exceeds the machine's physical memory:
-// "<what> needs about N GiB, more than this machine's M GiB; lower <hint>".
-// Sizes are estimates made before allocating, so a request that cannot
-// succeed is refused with a message instead of being killed for memory.
+// The memory this process may use in bytes: the machine's physical memory,
+// or the process's address-space or data limit (ulimit -v, -d) where that is
+// lower (0 if unknown). `limited` tells which.
+uint64_t UsableMemoryBytes(bool* limited = nullptr);
+
+// Resident memory of this process in bytes (0 if unknown).
+uint64_t ResidentBytes();
+
+// Throws ConfigError when `bytes` exceeds the usable memory:
+// "<what> needs about N GiB, more than this machine's M GiB; lower <hint>"
+// (or "this process's limit of M GiB (ulimit -v)"). Sizes are estimates made
+// before allocating, so a request that cannot succeed is refused with a
+// message instead of being killed for memory.
 void CheckMemoryEstimate(double bytes, const std::string& what, const std::string& hint);
+
+// The memory check of a batch of items whose size is only known once made
+// (envs: a MuJoCo model and data): after the first few items, projects the
+// resident memory they added per item to the whole batch and refuses it
+// (CheckMemoryEstimate) when it cannot fit. Call Made(k) after item k.
+class BatchMemoryCheck {
+ public:
+  BatchMemoryCheck(int64_t count, std::string what, std::string hint);
+  void Made(int64_t index);
+
+ private:
+  int64_t count_;
+  std::string what_;
+  std::string hint_;
+  uint64_t start_bytes_;
+};
 
 }  // namespace manyworlds
 

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/core/success.h"
 
 namespace manyworlds {
@@ -91,9 +92,10 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
 std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int num_episodes,
                                       int num_threads, const EpisodeSetup& prepare,
                                       int64_t max_steps_per_episode) {
-  if (num_episodes < 0 || num_threads < 1) {
+  if (num_episodes < 0 || num_threads < 1 || num_threads > kMaxThreads) {
     throw ConfigError("RunEpisodes on env '" + env.id() +
-                      "': episodes must be >= 0 and threads >= 1, got " +
+                      "': episodes must be >= 0 and threads in [1, " +
+                      std::to_string(kMaxThreads) + "], got " +
                       std::to_string(num_episodes) + " and " + std::to_string(num_threads));
   }
   std::vector<EpisodeStats> stats(static_cast<size_t>(num_episodes));
@@ -123,20 +125,31 @@ std::vector<EpisodeStats> RunEpisodes(Env& env, const EnvMaker& make_env, int nu
   };
   std::vector<std::thread> threads;
   const int extra = std::min(num_threads, std::max(num_episodes, 1)) - 1;
+  // a thread the system will not start ends the run with an error, after the started ones
+  // (a joinable std::thread destroyed by the exception would abort the program)
+  const auto join_all = [&] {
+    for (std::thread& t : threads) t.join();
+  };
   for (int t = 0; t < extra; ++t) {
-    threads.emplace_back([&] {
-      std::unique_ptr<Env> own;
-      try {
-        own = make_env();
-      } catch (...) {
-        fail(num_episodes - 1);  // an env that cannot be made: reported unless an episode failed
-        return;
-      }
-      work(*own);
-    });
+    try {
+      threads.emplace_back([&] {
+        std::unique_ptr<Env> own;
+        try {
+          own = make_env();
+        } catch (...) {
+          fail(num_episodes - 1);  // an env that cannot be made: reported unless one failed
+          return;
+        }
+        work(*own);
+      });
+    } catch (const std::exception& e) {
+      next = num_episodes;
+      join_all();
+      ThrowThreadsNotStarted(e, t + 1, extra + 1, "the number of threads");
+    }
   }
   work(env);
-  for (std::thread& t : threads) t.join();
+  join_all();
   if (error) std::rethrow_exception(error);
   return stats;
 }

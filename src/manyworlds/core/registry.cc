@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 
@@ -12,17 +13,17 @@
 namespace manyworlds {
 namespace {
 
-// Text for an error message: at most 80 characters.
-std::string Shorten(std::string text) {
-  if (text.size() > 80) text = text.substr(0, 77) + "...";
-  return text;
-}
+std::string Shorten(std::string text) { return ShortenForMessage(std::move(text)); }
 
 // A value for an error message: a scalar as JSON, a list or mapping by its size only (a
 // deeply nested one printed in full overflowed the stack).
 std::string Describe(const nlohmann::json& value) {
   if (value.is_array()) return "a list of " + std::to_string(value.size()) + " items";
   if (value.is_object()) return "a mapping of " + std::to_string(value.size()) + " keys";
+  if (value.is_number_float() && !std::isfinite(value.get<double>())) {  // JSON writes null
+    const double x = value.get<double>();
+    return std::isnan(x) ? "nan" : x > 0 ? "inf" : "-inf";
+  }
   return Shorten(value.dump());
 }
 
@@ -55,14 +56,30 @@ nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
           value.get<uint64_t>() > static_cast<uint64_t>(std::numeric_limits<int64_t>::max())) {
         return fail("has value " + value.dump() + ", beyond the integers [-2^63, 2^63)");
       }
-      if (value.is_number_integer()) return value.get<int64_t>();
-      if (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
-          std::abs(value.get<double>()) < 9e15) {
-        return static_cast<int64_t>(value.get<double>());
+      if (value.is_number_integer() ||
+          (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>() &&
+           std::abs(value.get<double>()) < 9e15)) {
+        const int64_t number = value.is_number_integer()
+                                   ? value.get<int64_t>()
+                                   : static_cast<int64_t>(value.get<double>());
+        if (static_cast<double>(number) < spec.min || static_cast<double>(number) > spec.max) {
+          char range[96];
+          std::snprintf(range, sizeof(range), ", outside [%.0f, %.0f]", spec.min, spec.max);
+          return fail("has value " + Describe(value) + range);
+        }
+        return number;
       }
       return fail("has value " + Describe(value));
     case OptionType::kFloat:
-      if (value.is_number() && std::isfinite(value.get<double>())) return value.get<double>();
+      if (value.is_number() && std::isfinite(value.get<double>())) {
+        const double number = value.get<double>();
+        if (number < spec.min || number > spec.max) {
+          char range[96];
+          std::snprintf(range, sizeof(range), ", outside [%g, %g]", spec.min, spec.max);
+          return fail("has value " + Describe(value) + range);
+        }
+        return number;
+      }
       return fail("has value " + Describe(value));
     case OptionType::kBool:
       if (value.is_boolean()) return value.get<bool>();
@@ -70,11 +87,25 @@ nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
     case OptionType::kString: {
       if (!value.is_string()) return fail("has value " + Describe(value));
       const auto text = value.get<std::string>();
+      if (text.size() > Registry::kMaxStringOptionChars) {
+        return fail("has a value of " + std::to_string(text.size()) + " characters, more than " +
+                    std::to_string(Registry::kMaxStringOptionChars));
+      }
       if (!spec.choices.empty() &&
           std::find(spec.choices.begin(), spec.choices.end(), text) == spec.choices.end()) {
+        // a long list (mt1's 50 task names) is summarised: the nearest names and the count
+        constexpr size_t kListed = 12;
         std::string allowed;
-        for (const auto& c : spec.choices) allowed += (allowed.empty() ? "" : ", ") + c;
-        return fail("has value '" + Shorten(text) + "', allowed: " + allowed);
+        for (size_t k = 0; k < std::min(kListed, spec.choices.size()); ++k) {
+          allowed += (k > 0 ? ", " : "") + spec.choices[k];
+        }
+        if (spec.choices.size() > kListed) {
+          allowed = "one of " + std::to_string(spec.choices.size()) + " names (" + allowed +
+                    ", ...; `manyworlds envs --json` lists them)";
+        }
+        throw ConfigError("env '" + std::string(env_id) + "': option '" + spec.name +
+                          "' has value '" + Shorten(text) + "'" +
+                          SuggestNearest(Shorten(text), spec.choices) + ", allowed: " + allowed);
       }
       return text;
     }
@@ -83,6 +114,11 @@ nlohmann::json Coerce(std::string_view env_id, const OptionSpec& spec,
 }
 
 }  // namespace
+
+std::string ShortenForMessage(std::string text) {
+  if (text.size() > 80) text = text.substr(0, 77) + "...";
+  return text;
+}
 
 std::string OptionTypeName(OptionType type) {
   switch (type) {
@@ -172,7 +208,9 @@ void Registry::Add(EnvRegistration registration) {
        "observation, as Meta-World v3's recurrent meta-RL wrapper does (Box observations only)"});
   registration.options.push_back(
       {std::string(kRecurrentMetaObsScaleOption), OptionType::kFloat, 0.1,
-       "the reward factor of recurrent_meta_obs (Meta-World v3: 1/10)"});
+       "the reward factor of recurrent_meta_obs (Meta-World v3: 1/10), in [-1000, 1000]: the "
+       "scaled reward stays a finite float32",
+       {}, -1000.0, 1000.0});
   entries_.push_back(std::move(registration));
 }
 

@@ -8,6 +8,7 @@
 #define MANYWORLDS_CORE_REGISTRY_H_
 
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -28,6 +29,11 @@ struct OptionSpec {
   std::string doc;
   // kString only: the allowed values (empty: any string).
   std::vector<std::string> choices = {};
+  // kInt and kFloat: the allowed range, checked when the value is resolved (before the env is
+  // made). Most envs check their own options in their factories; a range here is for options
+  // the registry adds itself.
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
 };
 
 // Resolved option values: every declared option present with the right type.
@@ -61,6 +67,8 @@ struct EnvRegistration {
 
 class Registry {
  public:
+  // String option values are at most this long (a longer one is refused, not parsed).
+  static constexpr size_t kMaxStringOptionChars = 4096;
   // Option every registration gets: override the env's episode limit.
   static constexpr std::string_view kMaxEpisodeStepsOption = "max_episode_steps";
   static constexpr int64_t kMaxEpisodeStepsLimit = 1000000;
@@ -89,6 +97,9 @@ class Registry {
  private:
   std::vector<EnvRegistration> entries_;
 };
+
+// A value for an error message: at most 80 characters ("..." ends a cut one).
+std::string ShortenForMessage(std::string text);
 
 // Edit distance, for suggestions.
 size_t EditDistance(std::string_view a, std::string_view b);

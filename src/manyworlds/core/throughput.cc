@@ -7,6 +7,8 @@
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/executor.h"
+#include "manyworlds/core/limits.h"
+#include "manyworlds/core/memory.h"
 #include "manyworlds/core/rng.h"
 
 namespace manyworlds {
@@ -21,13 +23,13 @@ constexpr int kActionPoolSize = 16;
 ThroughputResult MeasureThroughput(
     const std::function<std::unique_ptr<Env>(int env_index)>& make_env,
     const ThroughputOptions& opts) {
-  if (opts.num_envs < 1) {
-    throw ConfigError("MeasureThroughput: num_envs must be >= 1, got " +
-                      std::to_string(opts.num_envs));
+  if (opts.num_envs < 1 || opts.num_envs > kMaxEnvs) {
+    throw ConfigError("MeasureThroughput: num_envs must be in [1, " + std::to_string(kMaxEnvs) +
+                      "], got " + std::to_string(opts.num_envs));
   }
-  if (opts.num_threads < 1) {
-    throw ConfigError("MeasureThroughput: num_threads must be >= 1, got " +
-                      std::to_string(opts.num_threads));
+  if (opts.num_threads < 1 || opts.num_threads > kMaxThreads) {
+    throw ConfigError("MeasureThroughput: num_threads must be in [1, " +
+                      std::to_string(kMaxThreads) + "], got " + std::to_string(opts.num_threads));
   }
   if (opts.steps < 1) {
     throw ConfigError("MeasureThroughput: steps must be >= 1, got " + std::to_string(opts.steps));
@@ -40,11 +42,13 @@ ThroughputResult MeasureThroughput(
 
   std::vector<std::unique_ptr<Env>> envs;
   envs.reserve(opts.num_envs);
+  BatchMemoryCheck memory(opts.num_envs, std::to_string(opts.num_envs) + " envs", "--num-envs");
   for (int i = 0; i < opts.num_envs; ++i) {
     envs.push_back(make_env(i));
     if (!envs.back()) {
       throw ConfigError("MeasureThroughput: make_env(" + std::to_string(i) + ") returned null");
     }
+    memory.Made(i);
   }
   BatchedExecutor exec(std::move(envs), {.num_threads = opts.num_threads});
   exec.Seed(MixSeed(opts.seed, 1), MixSeed(opts.seed, 2));

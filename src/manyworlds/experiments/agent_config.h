@@ -15,6 +15,7 @@
 
 #include "manyworlds/config/reader.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/registry.h"
 
 namespace manyworlds::experiments {
 
@@ -51,7 +52,8 @@ void ReadField(ConfigReader& r, const char* key, std::optional<T>& field) {
   } else if (value.is_number()) {
     field = value.get<T>();
   } else {
-    throw ConfigError("'" + r.FullKey(key) + "' must be a number or null, got " + value.dump());
+    throw ConfigError("'" + r.FullKey(key) + "' must be a number or null, got " +
+                      ShortenForMessage(value.dump()));
   }
 }
 

@@ -100,8 +100,8 @@ const AlgorithmInfo* LookupAlgorithm(const std::string& name) {
 std::string UnknownAlgorithm(const std::string& key, const std::string& name) {
   std::vector<std::string> names;
   for (const AlgorithmInfo& a : Algorithms()) names.push_back(a.name);
-  return key + ": unknown algorithm '" + name + "'" + SuggestNearest(name, names) +
-         "; allowed: " + AlgorithmNames();
+  return key + ": unknown algorithm '" + ShortenForMessage(name) + "'" +
+         SuggestNearest(name, names) + "; allowed: " + AlgorithmNames();
 }
 
 const AlgorithmInfo& FindAlgorithm(const std::string& name) {

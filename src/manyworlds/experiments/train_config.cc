@@ -10,6 +10,7 @@
 #include "manyworlds/config/reader.h"
 #include "manyworlds/config/yaml.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/limits.h"
 #include "manyworlds/experiments/algorithms.h"
 
 namespace manyworlds::experiments {
@@ -269,6 +270,19 @@ constexpr int64_t kMaxEnvsPerTask = 4096;
 constexpr int64_t kMaxReplay = 1000000000;
 constexpr int64_t kMaxBatch = 10000000;
 
+// The task counts of an env section (env and eval_env alike).
+static void CheckTaskCounts(const EnvSectionConfig& env, const std::string& section) {
+  if (env.num_tasks < 0 || env.num_tasks > kMaxTasks) {
+    Bad(section + ".num_tasks", "must be in [0, " + std::to_string(kMaxTasks) + "], got " +
+                                    std::to_string(env.num_tasks));
+  }
+  if (env.variations_per_task < 0 || env.variations_per_task > kMaxVariations) {
+    Bad(section + ".variations_per_task", "must be in [0, " + std::to_string(kMaxVariations) +
+                                              "] (0 = all), got " +
+                                              std::to_string(env.variations_per_task));
+  }
+}
+
 void TrainConfig::Validate() const {
   // env
   if (env.id.empty() == env.tasks.empty()) {
@@ -280,17 +294,9 @@ void TrainConfig::Validate() const {
   for (const auto& id : env.tasks) {
     if (id.empty()) Bad("env.tasks", "must not hold an empty id");
   }
-  if (env.num_tasks < 0 || env.num_tasks > kMaxTasks) {
-    Bad("env.num_tasks", "must be in [0, " + std::to_string(kMaxTasks) + "], got " +
-                             std::to_string(env.num_tasks));
-  }
+  CheckTaskCounts(env, "env");
   if (!env.tasks.empty() && env.num_tasks != 0) {
     Bad("env.num_tasks", "applies to 'env.id' only; with 'env.tasks' each id is one task");
-  }
-  if (env.variations_per_task < 0 || env.variations_per_task > kMaxVariations) {
-    Bad("env.variations_per_task", "must be in [0, " + std::to_string(kMaxVariations) +
-                                       "] (0 = all), got " +
-                                       std::to_string(env.variations_per_task));
   }
   if (!env.task_states.is_array()) Bad("env.task_states", "must be a list of task states");
   for (const auto& s : env.task_states) {
@@ -310,9 +316,8 @@ void TrainConfig::Validate() const {
     if (eval_env->id.empty() == eval_env->tasks.empty()) {
       Bad("eval_env", "needs an env id or a task list (not both)");
     }
-    if (eval_env->num_tasks < 0 || eval_env->variations_per_task < 0) {
-      Bad("eval_env", "num_tasks and variations_per_task must be >= 0");
-    }
+    // the same bounds as env's (unbounded, 2^63-1 variations were allocated until killed)
+    CheckTaskCounts(*eval_env, "eval_env");
     if (!eval_env->options.is_object()) Bad("eval_env.options", "must be a mapping");
     if (!eval_env->task_states.is_array()) Bad("eval_env.task_states", "must be a list");
   }
@@ -375,8 +380,9 @@ void TrainConfig::Validate() const {
     Bad("experiment.eval_episodes", "must be in [1, " + std::to_string(kMaxEpisodes) +
                                         "], got " + std::to_string(e.eval_episodes));
   }
-  if (e.num_threads < 1 || e.num_threads > 256) {
-    Bad("experiment.num_threads", "must be in [1, 256], got " + std::to_string(e.num_threads));
+  if (e.num_threads < 1 || e.num_threads > kMaxThreads) {
+    Bad("experiment.num_threads", "must be in [1, " + std::to_string(kMaxThreads) + "], got " +
+                                      std::to_string(e.num_threads));
   }
   if (e.checkpoint_every < 0 || e.checkpoint_every > kMaxSteps) {
     Bad("experiment.checkpoint_every", "must be in [0, " + std::to_string(kMaxSteps) +

@@ -72,9 +72,10 @@
 //     checkpoint_every: 50000  # env steps per task; 0 = only at the end
 //     keep_checkpoints: 1      # newest checkpoints kept (0 = all)
 //     run_dir: runs/train
-//     init_from: ""            # a checkpoint directory whose learner a new run
-//                              # starts from (fine-tuning); same algorithm and
-//                              # network sizes; "" = fresh networks
+//     init_from: ""            # a checkpoint directory (or a run: its newest
+//                              # intact one) whose learner a new run starts from
+//                              # (fine-tuning), verified as resume verifies; same
+//                              # algorithm and network sizes; "" = fresh networks
 //
 // Only the keys of the chosen algorithm are allowed under agent:, and a
 // config whose replay or off-policy experiment keys differ from their
@@ -123,7 +124,8 @@ struct ExperimentSectionConfig {
   int64_t checkpoint_every = 50000;
   int64_t keep_checkpoints = 1;
   std::string run_dir = "runs/train";
-  std::string init_from;  // checkpoint directory to start a new run from ("" none)
+  // checkpoint directory (or a run: its newest intact checkpoint) to start a new run from
+  std::string init_from;  // ("" none)
 };
 
 // The meta-test protocol's settings. Defaults: Meta-World v3's

@@ -354,6 +354,28 @@ Trainer::Trainer(Trainer&&) noexcept = default;
 Trainer& Trainer::operator=(Trainer&&) noexcept = default;
 Trainer::~Trainer() = default;
 
+void NameMemorySettingsOnFailure(const std::function<void()>& work) {
+  static const std::string kSettings =
+      "lower agent.batch_size, agent.hidden_dim, replay.capacity or env.envs_per_task";
+  try {
+    work();
+  } catch (const std::bad_alloc&) {
+    throw Error("out of memory; " + kSettings);
+  } catch (const c10::Error& e) {
+    std::string what = e.what_without_backtrace();
+    what = what.substr(0, what.find('\n'));
+    if (what.find("not enough memory") == std::string::npos &&
+        what.find("out of memory") == std::string::npos) {
+      throw Error(what);  // still one line
+    }
+    // "[enforce fail at alloc_cpu.cpp:75] data. DefaultCPUAllocator: not enough memory: you
+    // tried to allocate N bytes." keeps what follows the allocator's name
+    const size_t from = what.find("not enough memory");
+    throw Error("out of memory (" + (from == std::string::npos ? what : what.substr(from)) +
+                "); " + kSettings);
+  }
+}
+
 Trainer Trainer::Create(const TrainConfig& config) {
   config.Validate();
   const fs::path run_dir = config.experiment.run_dir;
@@ -372,10 +394,23 @@ Trainer Trainer::Create(const TrainConfig& config) {
   if (!config.experiment.init_from.empty()) {
     // fine-tuning: the learner starts from another run's checkpoint (a
     // resumed run reads its own checkpoints instead)
-    const fs::path from = config.experiment.init_from;
-    if (!fs::exists(from / "learner.pt")) {
+    fs::path from = config.experiment.init_from;
+    // the integrity checks of resume and eval (state.json, the size and CRC of every file);
+    // a run directory stands for its newest intact checkpoint. The source run's config may
+    // differ from this one's: fine-tuning changes it.
+    const bool is_run = fs::exists(from / "config.yaml");
+    if (!is_run && !fs::exists(from / "learner.pt")) {
       throw ConfigError("experiment.init_from: '" + from.string() +
-                        "' is not a checkpoint directory (no learner.pt)");
+                        "' is not a checkpoint directory (no learner.pt) or a run directory");
+    }
+    try {
+      if (is_run) from = ChooseCheckpoint(from).dir;
+    } catch (const std::exception& e) {
+      throw ConfigError(std::string("experiment.init_from: ") + e.what());
+    }
+    if (const auto problem = CheckpointProblem(from)) {
+      throw ConfigError("experiment.init_from: checkpoint '" + from.string() + "' is damaged: " +
+                        *problem);
     }
     try {
       impl->algorithm->LoadPolicy(from);

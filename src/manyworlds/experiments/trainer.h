@@ -83,6 +83,11 @@ struct TrainSummary {
   nlohmann::json ToJson() const;
 };
 
+// Runs `work` (a command that builds or trains learners): an allocation that fails inside
+// (libtorch's "not enough memory", std::bad_alloc) becomes one Error line that says how much was
+// asked and names the settings that size memory, instead of libtorch's 30-frame backtrace.
+void NameMemorySettingsOnFailure(const std::function<void()>& work);
+
 class Trainer {
  public:
   // A new run: validates the config, resolves the tasks, creates run_dir and

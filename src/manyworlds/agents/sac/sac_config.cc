@@ -23,8 +23,9 @@ bool Finite(double x) { return std::isfinite(x); }
 }  // namespace
 
 void SacConfig::Validate() const {
-  Require(hidden_dim > 0, "hidden_dim", "> 0", hidden_dim);
-  Require(num_layers >= 0, "num_layers", ">= 0", num_layers);
+  // the bounds of every other agent's networks (a typo of 2^63 layers was taken)
+  Require(hidden_dim > 0 && hidden_dim <= 65536, "hidden_dim", "in [1, 65536]", hidden_dim);
+  Require(num_layers >= 0 && num_layers <= 64, "num_layers", "in [0, 64]", num_layers);
   Require(Finite(actor_lr) && actor_lr > 0, "actor_lr", "finite and > 0", actor_lr);
   Require(Finite(critic_lr) && critic_lr > 0, "critic_lr", "finite and > 0", critic_lr);
   Require(Finite(alpha_lr) && alpha_lr >= 0, "alpha_lr", "finite and >= 0", alpha_lr);

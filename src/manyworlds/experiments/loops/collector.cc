@@ -1,6 +1,7 @@
 #include "manyworlds/experiments/loops/collector.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
@@ -144,6 +145,18 @@ void Collector::RestartSucceeded() {
 }
 
 void Collector::StepEnvs(std::span<const float> policy_actions) {
+  // a policy whose networks diverged (a step size far too large, a log-std bound of -1e308)
+  // acts with NaN: said so here, where every loop and protocol steps its envs, instead of as
+  // the env's "action element 0 is nan"
+  for (size_t k = 0; k < policy_actions.size(); ++k) {
+    if (!std::isfinite(policy_actions[k])) {
+      throw Error("the policy's action " + std::to_string(k % facts_.action_dim) + " of env " +
+                  std::to_string(k / facts_.action_dim) + " is " +
+                  std::to_string(policy_actions[k]) +
+                  ": its networks diverged; lower the agent's learning rates or step sizes, or "
+                  "bring its bounds (log_std_min, ...) to their usual range");
+    }
+  }
   if (env_units_) {
     exec_->Step(policy_actions);
     return;

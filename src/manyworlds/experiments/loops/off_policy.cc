@@ -17,6 +17,7 @@
 #include "manyworlds/agents/replay_buffer.h"
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/memory.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/loops/loops.h"
@@ -52,6 +53,15 @@ class OffPolicyAlgorithm : public Algorithm {
                         ") must be at least the number of tasks (" +
                         std::to_string(num_tasks_) + ")");
     }
+    // one update holds, per batch row, the transition and every layer's activations and
+    // gradients of the actor, two critics and their targets: refused before it is tried
+    CheckMemoryEstimate(4.0 * static_cast<double>(batch_size_) *
+                            (2.0 * static_cast<double>(facts_.obs_dim + facts_.action_dim) +
+                             16.0 * static_cast<double>(agent.hidden_dim) *
+                                 (static_cast<double>(agent.num_layers) + 1.0)),
+                        "an update of " + std::to_string(batch_size_) + " rows",
+                        "agent.batch_size (rows per task; experiment.batch_size: in all) or "
+                        "agent.hidden_dim");
     learner_ = std::make_unique<agents::SacLearner>(agent, facts_.obs_dim, facts_.action_dim,
                                                     num_tasks_);
     replay_ = std::make_unique<agents::ReplayBuffer>(config_.replay.capacity, facts_.obs_dim,

@@ -23,13 +23,8 @@ namespace fs = std::filesystem;
 
 constexpr char kLatestFile[] = "latest";
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot read '" + path.string() + "'");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+// a run's files: never a FIFO (config.yaml as a pipe hung eval, rollout and resume)
+std::string ReadText(const fs::path& path) { return ReadRegularFile(path); }
 
 // A task set file of a run; Error naming the file if it is not one.
 TaskSet ReadTaskSet(const fs::path& path) {

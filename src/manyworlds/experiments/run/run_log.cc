@@ -47,8 +47,9 @@ nlohmann::json FlattenJson(const nlohmann::json& json) {
 
 std::vector<nlohmann::json> ReadJsonLines(const std::filesystem::path& path) {
   std::vector<nlohmann::json> rows;
-  std::ifstream in(path);
-  if (!in) return rows;
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return rows;
+  std::istringstream in(ReadRegularFile(path));  // a FIFO in its place is an error, not a hang
   std::vector<std::string> lines;
   for (std::string line; std::getline(in, line);) {
     if (!line.empty()) lines.push_back(line);

@@ -108,7 +108,10 @@ RunCost TrainRun(const TrainConfig& config, const std::function<void(const Train
   train_callbacks.on_round = progress;
   train_callbacks.stop_requested = callbacks.stop_requested;
   const TrainSummary summary = trainer->Run(train_callbacks);
-  if (!summary.finished) throw Error("study stopped during '" + dir.string() + "'; run it again to resume");
+  if (!summary.finished) {
+    throw StudyStopped("study stopped during '" + dir.string() +
+                       "' (checkpointed); run the same command again to resume");
+  }
   trainer.reset();  // releases the run lock
   return CostOf(dir);
 }
@@ -305,6 +308,10 @@ std::vector<StudyRow> RunBoxWorldStudy(const StudyOptions& options,
       };
     };
     auto announce = [&](const std::string& phase) {
+      if (callbacks.stop_requested && callbacks.stop_requested()) {
+        throw StudyStopped("study stopped before the " + phase + " phase of '" + method +
+                           "'; run the same command again to resume (finished methods are kept)");
+      }
       progress.phase = phase;
       progress.train = {};
       if (callbacks.on_progress) callbacks.on_progress(progress);

@@ -51,6 +51,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "manyworlds/core/error.h"
 #include "manyworlds/experiments/task_set.h"
 #include "manyworlds/experiments/trainer.h"
 
@@ -120,7 +121,15 @@ struct StudyProgress {
 struct StudyCallbacks {
   std::function<void(const StudyProgress&)> on_progress;
   std::function<void(const StudyRow&, bool reused)> on_row;  // reused: from result.json
-  std::function<bool()> stop_requested;  // polled between training iterations
+  // polled between training iterations and before each evaluation
+  std::function<bool()> stop_requested;
+};
+
+// Thrown by RunBoxWorldStudy when stop_requested said so: the running training run has
+// checkpointed, finished methods have their result.json, and the same call resumes.
+class StudyStopped : public Error {
+ public:
+  using Error::Error;
 };
 
 // The methods in table order: the paper's six, then rl2.
