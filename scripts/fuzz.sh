@@ -29,7 +29,7 @@ targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
   bash scripts/asan_build.sh --configure-only
   defined=$(cmake --build build-asan --target help)
-  for target in yaml override task_state task_state_mujoco checkpoint replay; do
+  for target in yaml override registry_option task_state task_state_mujoco checkpoint replay; do
     if grep -qx "\.\.\. fuzz_$target" <<< "$defined"; then targets+=("$target"); fi
   done
 fi

@@ -6,10 +6,10 @@
 # dependencies, and runs the pytest suite in python/tests.
 #
 # Test dependencies: the package's sweep extra (Ray, rliable, tensorboardX), gymnasium 1.0,
-# pytest and Stable-Baselines3 2.4 on Debian's
-# python3-torch (1.13; the venv sees it through --system-site-packages), so no
-# CUDA wheels are downloaded. Where build/manyworlds exists (scripts/test.sh
-# builds it) the determinism test also compares with `manyworlds rollout --json`.
+# pytest, hypothesis (test_properties.py) and Stable-Baselines3 2.4 on Debian's python3-torch
+# (1.13; the venv sees it through --system-site-packages), so no CUDA wheels are downloaded.
+# Where build/manyworlds exists (scripts/test.sh builds it) the determinism test also compares
+# with `manyworlds rollout --json`.
 # The Meta-World fidelity tests use the official package from PyPI in a second
 # venv (default .venv-metaworld/, override with MANYWORLDS_METAWORLD_VENV).
 # MANYWORLDS_NATIVE=ON builds the extension for this CPU (-march=native; see below).
@@ -42,7 +42,7 @@ pip=("$venv/bin/python" -m pip --disable-pip-version-check)
 # pip from replacing Debian's torch (which reports itself as 1.13.0a0) with
 # PyPI's CUDA build.
 "${pip[@]}" install -q "gymnasium>=1.0,<1.1" "numpy>=1.21,<2" "pytest>=7" "pytest-xdist>=3" \
-  cloudpickle pandas matplotlib
+  "hypothesis>=6" cloudpickle pandas matplotlib
 "${pip[@]}" install -q --no-deps "stable-baselines3>=2.4,<2.5"
 
 export CMAKE_BUILD_PARALLEL_LEVEL=${CMAKE_BUILD_PARALLEL_LEVEL:-$(nproc)}

@@ -70,8 +70,8 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
     ) -> None:
         if isinstance(env_ids, str):
             count = 1 if num_envs is None else int(num_envs)
-            if count < 1:
-                raise ValueError(f"num_envs must be >= 1, got {count}")
+            if not 1 <= count <= _core.MAX_ENVS:
+                raise ValueError(f"num_envs must be in [1, {_core.MAX_ENVS}], got {count}")
             entries: List[Tuple[str, Dict[str, Any]]] = [(env_ids, {}) for _ in range(count)]
         else:
             entries = []
@@ -85,10 +85,17 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
                 raise ValueError("env_ids: at least one env is needed")
             if num_envs is not None and int(num_envs) != len(entries):
                 raise ValueError(f"num_envs={num_envs} but {len(entries)} env ids were given")
-        if isinstance(threads, bool) or int(threads) < 1:
-            raise ValueError(f"threads must be an int >= 1, got {threads!r}")
+        if isinstance(threads, bool) or not 1 <= int(threads) <= _core.MAX_THREADS:
+            raise ValueError(f"threads must be an int in [1, {_core.MAX_THREADS}], got {threads!r}")
+        if len(entries) > _core.MAX_ENVS:
+            raise ValueError(f"at most {_core.MAX_ENVS} envs, got {len(entries)}")
 
-        core_envs = [_core.Env(env_id, {**options, **env_options}) for env_id, env_options in entries]
+        # envs too many for this machine's memory are refused after the first few are made
+        memory = _core.BatchMemoryCheck(len(entries), f"{len(entries)} envs", "num_envs")
+        core_envs = []
+        for index, (env_id, env_options) in enumerate(entries):
+            core_envs.append(_core.Env(env_id, {**options, **env_options}))
+            memory.made(index)
         if task_states is not None:
             if len(task_states) != len(core_envs):
                 raise ValueError(f"task_states: expected {len(core_envs)} entries, got {len(task_states)}")

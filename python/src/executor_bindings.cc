@@ -13,6 +13,8 @@
 #include "convert.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/executor.h"
+#include "manyworlds/core/limits.h"
+#include "manyworlds/core/memory.h"
 
 namespace manyworlds::python {
 namespace {
@@ -77,6 +79,16 @@ py::array_t<float, py::array::c_style> Actions(PyExecutor& self, const py::handl
 }  // namespace
 
 void BindExecutor(py::module_& m) {
+  // the bounds every entry point shares (core/limits.h)
+  m.attr("MAX_ENVS") = kMaxEnvs;
+  m.attr("MAX_THREADS") = kMaxThreads;
+  py::class_<BatchMemoryCheck>(m, "BatchMemoryCheck",
+                               "Refuses a batch of `count` items (envs) that cannot fit in "
+                               "memory, projected from the first items made (core/memory.h).")
+      .def(py::init<int64_t, std::string, std::string>(), py::arg("count"), py::arg("what"),
+           py::arg("hint"))
+      .def("made", &BatchMemoryCheck::Made, py::arg("index"),
+           "Call after item `index`; raises ValueError when the batch cannot fit.");
   py::class_<PyExecutor>(m, "Executor",
                          "The batched executor: N envs stepped on T threads into contiguous "
                          "buffers exposed as numpy views (low-level; use manyworlds.make_vec).")

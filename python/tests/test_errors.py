@@ -115,6 +115,25 @@ def test_vector_env_errors():
     envs.step(np.array([0, 1]))
 
 
+def test_vector_env_counts_and_memory_are_bounded_before_envs_are_made():
+    # 10^12 envs grew memory until killed; 10^9 threads aborted when the system refused them
+    with pytest.raises(ValueError, match=r"num_envs must be in \[1, 65536\]"):
+        manyworlds.make_vec("point-nav", num_envs=10**12)
+    assert manyworlds._core.MAX_ENVS == 65536 and manyworlds._core.MAX_THREADS == 256
+    with pytest.raises(ValueError, match=r"threads must be an int in \[1, 256\]"):
+        manyworlds.make_vec("cartpole", 2, threads=10**9)
+    # a batch that cannot fit in memory: refused after its first items are made, from their
+    # measured resident size (4 MiB per item here, 10^9 items)
+    check = manyworlds._core.BatchMemoryCheck(10**9, "a billion envs", "num_envs")
+    blocks = []
+    with pytest.raises(manyworlds.ConfigError, match="a billion envs needs about .* GiB.*lower num_envs"):
+        for index in range(32):
+            blocks.append(bytearray(4 << 20))  # 4 MiB resident per "env"
+            for k in range(0, len(blocks[-1]), 4096):
+                blocks[-1][k] = 1
+            check.made(index)
+
+
 def test_keyboard_interrupt_during_a_long_stepping_loop():
     script = textwrap.dedent(
         """
