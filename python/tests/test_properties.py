@@ -23,7 +23,7 @@ import manyworlds  # noqa: E402
 # one classic env of each action kind, a MuJoCo manipulation task and the box world
 ENV_IDS = ["cartpole", "point-nav", "bandit", "reach", "box-world-simple"]
 ERRORS = (ValueError, TypeError, manyworlds.Error)
-SETTINGS = settings(max_examples=150, deadline=None, derandomize=True,
+SETTINGS = settings(max_examples=150, deadline=None, derandomize=True, database=None,
                     suppress_health_check=[HealthCheck.too_slow])
 
 
