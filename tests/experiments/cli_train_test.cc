@@ -261,6 +261,17 @@ TEST(CliTrainTest, SizesAndStepSizesThatCannotWorkAreOneLineNamingTheSetting) {
   EXPECT_TRUE(IsOneErrorLine(batch.err)) << batch.err;
   EXPECT_NE(batch.err.find("agent.batch_size"), std::string::npos) << batch.err;
   const std::string source = MANYWORLDS_TEST_SOURCE_DIR;
+  // an allocation that fails inside libtorch (65536-wide layers under a 4 GB limit): one line
+  // naming the settings that size memory, not libtorch's 30-frame backtrace
+  const RunResult wide = test_support::RunProgram(
+      "/bin/sh", "-c \"ulimit -v 4000000; '" + std::string(MANYWORLDS_CLI_PATH) + "' train " +
+                     source + "/configs/point_nav_ppo.yaml agent.hidden_dim=65536 "
+                     "experiment.run_dir=wide\"",
+      dir);
+  EXPECT_EQ(wide.exit_code, 1) << wide.err;
+  EXPECT_TRUE(IsOneErrorLine(wide.err)) << wide.err;
+  EXPECT_NE(wide.err.find("out of memory (you tried to allocate"), std::string::npos) << wide.err;
+  EXPECT_NE(wide.err.find("agent.hidden_dim"), std::string::npos) << wide.err;
   for (const std::string& args :
        {"train " + source + "/configs/point_nav_maml.yaml agent.inner_lr=1e308",
         "train " + source + "/configs/point_nav_pearl.yaml agent.log_std_min=-1e308"}) {

@@ -364,15 +364,18 @@ void NameMemorySettingsOnFailure(const std::function<void()>& work) {
   } catch (const c10::Error& e) {
     std::string what = e.what_without_backtrace();
     what = what.substr(0, what.find('\n'));
-    if (what.find("not enough memory") == std::string::npos &&
-        what.find("out of memory") == std::string::npos) {
-      throw Error(what);  // still one line
-    }
-    // "[enforce fail at alloc_cpu.cpp:75] data. DefaultCPUAllocator: not enough memory: you
-    // tried to allocate N bytes." keeps what follows the allocator's name
-    const size_t from = what.find("not enough memory");
-    throw Error("out of memory (" + (from == std::string::npos ? what : what.substr(from)) +
-                "); " + kSettings);
+    const bool memory = what.find("not enough memory") != std::string::npos ||
+                        what.find("can't allocate memory") != std::string::npos ||
+                        what.find("out of memory") != std::string::npos;
+    if (!memory) throw Error(what);  // still one line
+    // "[enforce fail at alloc_cpu.cpp:75] err == 0. DefaultCPUAllocator: can't allocate memory:
+    // you tried to allocate N bytes. Error code 12 (...)": the request is what a user can act on
+    const size_t from = what.find("you tried to allocate");
+    const size_t to = what.find("bytes", from);
+    const std::string asked = from == std::string::npos || to == std::string::npos
+                                  ? what
+                                  : what.substr(from, to + 5 - from);
+    throw Error("out of memory (" + asked + "); " + kSettings);
   }
 }
 
