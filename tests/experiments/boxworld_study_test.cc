@@ -4,6 +4,7 @@
 #include "manyworlds/experiments/studies/boxworld_study.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -163,6 +164,14 @@ TEST(BoxWorldStudyTest, InitFromNeedsAMatchingCheckpoint) {
   c.experiment.init_from = stateless.string();
   EXPECT_NE(message(c).find("is damaged: state.json is missing"), std::string::npos)
       << message(c);
+  // a FIFO for learner.pt is refused, not opened (opening it waited for a writer forever)
+  const fs::path piped = o.out_dir / "piped";
+  fs::copy(checkpoint, piped);
+  fs::remove(piped / "learner.pt");
+  ASSERT_EQ(mkfifo((piped / "learner.pt").c_str(), 0644), 0);
+  c.experiment.run_dir = (o.out_dir / "ft_piped").string();
+  c.experiment.init_from = piped.string();
+  EXPECT_NE(message(c).find("is damaged: learner.pt"), std::string::npos) << message(c);
   fs::remove_all(o.out_dir);
 }
 
