@@ -140,6 +140,16 @@ class Env:
     def sample_action(self, rng: Rng) -> npt.NDArray[np.float32]: ...
     def render(self, camera: str = "front", width: int = 640, height: int = 480) -> npt.NDArray[np.uint8]: ...
 
+# the bounds every entry point shares (core/limits.h)
+MAX_ENVS: int
+MAX_THREADS: int
+
+class BatchMemoryCheck:
+    """Refuses a batch of ``count`` items that cannot fit in memory, projected from the first
+    items made (core/memory.h)."""
+    def __init__(self, count: int, what: str, hint: str) -> None: ...
+    def made(self, index: int) -> None: ...
+
 class Executor:
     """The batched executor; its buffers are read-only numpy views."""
 
