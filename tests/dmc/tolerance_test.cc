@@ -4,7 +4,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "manyworlds/core/error.h"
 
@@ -80,6 +86,40 @@ TEST(ToleranceTest, TheTasksLinearShapesAreClippedRamps) {
     EXPECT_NEAR(Tolerance(vx, run), std::clamp(vx / 10.0, 0.0, 1.0), 1e-12) << vx;
     EXPECT_NEAR(Tolerance(vx, move), std::clamp(vx, 0.0, 1.0), 1e-12) << vx;
   }
+}
+
+// Against dm_control itself: its `tolerance` recorded on 140 shapes (8 sigmoids, bands,
+// one-sided bounds, point targets, margin 0; values at the margin 0 to 0.9) at 47 points by
+// scripts/record_dmc_tolerance.py (dm-control 1.0.50 from PyPI).
+TEST(ToleranceTest, EqualsDmControlsOwnFunction) {
+  const char* source = std::getenv("MANYWORLDS_SOURCE_DIR");
+  ASSERT_NE(source, nullptr) << "MANYWORLDS_SOURCE_DIR is set by ctest";
+  std::ifstream in(std::string(source) + "/tests/dmc/data/tolerance_dm_control.json");
+  ASSERT_TRUE(in) << "the recording is missing";
+  const nlohmann::json recording = nlohmann::json::parse(in);
+  const std::vector<double> xs = recording["x"].get<std::vector<double>>();
+  auto bound = [](const nlohmann::json& b) {
+    if (b.is_string()) return b.get<std::string>() == "inf" ? kInf : -kInf;
+    return b.get<double>();
+  };
+  size_t compared = 0;
+  for (const nlohmann::json& c : recording["cases"]) {
+    const ToleranceShape shape{.lower = bound(c["lower"]), .upper = bound(c["upper"]),
+                               .margin = c["margin"].get<double>(),
+                               .sigmoid = ParseSigmoid(c["sigmoid"].get<std::string>()),
+                               .value_at_margin = c["value_at_margin"].get<double>()};
+    Validate(shape);
+    const std::vector<double> values = c["value"].get<std::vector<double>>();
+    ASSERT_EQ(values.size(), xs.size());
+    for (size_t i = 0; i < xs.size(); ++i, ++compared) {
+      EXPECT_NEAR(Tolerance(xs[i], shape), values[i], 1e-12)
+          << c["sigmoid"] << " [" << shape.lower << ", " << shape.upper << "] margin "
+          << shape.margin << " v " << shape.value_at_margin << " at x = " << xs[i];
+    }
+  }
+  EXPECT_EQ(recording["cases"].size(), 140u);
+  EXPECT_EQ(compared, 140u * xs.size());
+  EXPECT_EQ(xs.size(), 47u);
 }
 
 TEST(ToleranceTest, BadShapesAreConfigErrorsNamingTheField) {

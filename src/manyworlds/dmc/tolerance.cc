@@ -79,6 +79,7 @@ void Validate(const ToleranceShape& shape) {
     throw ConfigError("tolerance: margin must be finite and >= 0, got " +
                       std::to_string(shape.margin));
   }
+  if (shape.margin == 0.0) return;  // the indicator: value_at_margin is not used (as in dm_control)
   const double v = shape.value_at_margin;
   const bool zero_ok = AllowsZeroAtMargin(shape.sigmoid);
   if (!(v < 1.0) || !(zero_ok ? v >= 0.0 : v > 0.0)) {

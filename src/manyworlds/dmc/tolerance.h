@@ -47,8 +47,8 @@ struct ToleranceShape {
   double value_at_margin = 0.1;  // dm_control's default
 };
 
-// Throws ConfigError naming the field for lower > upper, a negative or non-finite margin, or a
-// value_at_margin outside the sigmoid's range.
+// Throws ConfigError naming the field for lower > upper, a negative or non-finite margin, or
+// (with a margin) a value_at_margin outside the sigmoid's range.
 void Validate(const ToleranceShape& shape);
 
 // In [0, 1]; 1 inside the bounds. `shape` must be valid (Validate).
