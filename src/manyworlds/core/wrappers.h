@@ -2,7 +2,9 @@
 #ifndef MANYWORLDS_CORE_WRAPPERS_H_
 #define MANYWORLDS_CORE_WRAPPERS_H_
 
+#include "manyworlds/core/wrappers/action_repeat.h"        // IWYU pragma: export
 #include "manyworlds/core/wrappers/append_task_one_hot.h"  // IWYU pragma: export
+#include "manyworlds/core/wrappers/frame_stack.h"          // IWYU pragma: export
 #include "manyworlds/core/wrappers/multi_env.h"            // IWYU pragma: export
 #include "manyworlds/core/wrappers/ntasks.h"               // IWYU pragma: export
 #include "manyworlds/core/wrappers/ntasks_id.h"            // IWYU pragma: export
