@@ -1,6 +1,8 @@
 #include "manyworlds/experiments/train_config.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <unistd.h>
 
 #include <cstdlib>
@@ -207,12 +209,8 @@ TEST(TaskSetTest, ResolvesListsSamplesAndExplicitStates) {
 EnvRegistration Registration(const std::string& id) {
   EnvRegistration r = DefaultRegistry().Find(id);
   std::erase_if(r.options, [](const OptionSpec& o) {
-    for (std::string_view reserved :
-         {Registry::kMaxEpisodeStepsOption, Registry::kTerminateOnSuccessOption,
-          Registry::kRecurrentMetaObsOption, Registry::kRecurrentMetaObsScaleOption}) {
-      if (o.name == reserved) return true;
-    }
-    return false;
+    const auto& reserved = Registry::ReservedOptions();
+    return std::find(reserved.begin(), reserved.end(), o.name) != reserved.end();
   });
   return r;
 }

@@ -7,6 +7,8 @@
 #include <numeric>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/wrappers/action_repeat.h"
+#include "manyworlds/core/wrappers/frame_stack.h"
 #include "manyworlds/core/wrappers/recurrent_meta_obs.h"
 #include "manyworlds/core/wrappers/terminate_on_success.h"
 
@@ -184,13 +186,20 @@ std::string Options::String(std::string_view name) const {
   return Get(name).get<std::string>();
 }
 
+const std::vector<std::string_view>& Registry::ReservedOptions() {
+  static const std::vector<std::string_view> names = {
+      kMaxEpisodeStepsOption, kTerminateOnSuccessOption, kRecurrentMetaObsOption,
+      kRecurrentMetaObsScaleOption, kActionRepeatOption, kFrameStackOption};
+  return names;
+}
+
 void Registry::Add(EnvRegistration registration) {
   if (Contains(registration.id)) {
     throw ConfigError("env id '" + registration.id + "' is registered twice");
   }
   for (const auto& option : registration.options) {
-    if (option.name == kMaxEpisodeStepsOption || option.name == kTerminateOnSuccessOption ||
-        option.name == kRecurrentMetaObsOption || option.name == kRecurrentMetaObsScaleOption) {
+    const auto& reserved = ReservedOptions();
+    if (std::find(reserved.begin(), reserved.end(), option.name) != reserved.end()) {
       throw ConfigError("env '" + registration.id + "' declares the reserved option '" +
                         option.name + "'");
     }
@@ -211,6 +220,16 @@ void Registry::Add(EnvRegistration registration) {
        "the reward factor of recurrent_meta_obs (Meta-World v3: 1/10), in [-1000, 1000]: the "
        "scaled reward stays a finite float32",
        {}, -1000.0, 1000.0});
+  registration.options.push_back(
+      {std::string(kActionRepeatOption), OptionType::kInt, int64_t{1},
+       "apply each action this many times, summing the rewards (MTEnv's DeepMind-Control suites: "
+       "2); the episode limit, max_episode_steps included, counts the env's own steps",
+       {}, 1.0, static_cast<double>(ActionRepeat::kMaxRepeat)});
+  registration.options.push_back(
+      {std::string(kFrameStackOption), OptionType::kInt, int64_t{1},
+       "the env observation is the last this many observations, oldest first (MTEnv's "
+       "DeepMind-Control suites: 3; Box observations only)",
+       {}, 1.0, static_cast<double>(FrameStack::kMaxFrames)});
   entries_.push_back(std::move(registration));
 }
 
@@ -283,12 +302,18 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
                       std::to_string(kMaxEpisodeStepsLimit) +
                       " allowed; lower its horizon (or set max_episode_steps)");
   }
+  if (const int64_t repeat = resolved.Int(kActionRepeatOption); repeat > 1) {
+    env = std::make_unique<ActionRepeat>(std::move(env), repeat);
+  }
   if (resolved.Bool(kTerminateOnSuccessOption)) {
     env = std::make_unique<TerminateOnSuccess>(std::move(env));
   }
   if (resolved.Bool(kRecurrentMetaObsOption)) {
     env = std::make_unique<RecurrentMetaObservation>(std::move(env),
                                                      resolved.Float(kRecurrentMetaObsScaleOption));
+  }
+  if (const int64_t frames = resolved.Int(kFrameStackOption); frames > 1) {
+    env = std::make_unique<FrameStack>(std::move(env), frames);
   }
   return env;
 }

@@ -79,8 +79,15 @@ class Registry {
   // (RecurrentMetaObservation, outermost) and the reward scale it uses.
   static constexpr std::string_view kRecurrentMetaObsOption = "recurrent_meta_obs";
   static constexpr std::string_view kRecurrentMetaObsScaleOption = "recurrent_meta_obs_reward_scale";
+  // Options every registration gets: repeat each action k times (ActionRepeat, innermost) and
+  // stack the last k env observations (FrameStack, outermost); 1 = off.
+  static constexpr std::string_view kActionRepeatOption = "action_repeat";
+  static constexpr std::string_view kFrameStackOption = "frame_stack";
 
-  // Throws ConfigError on a duplicate id.
+  // The options above, which Add gives every registration (a registration may not declare them).
+  static const std::vector<std::string_view>& ReservedOptions();
+
+  // Throws ConfigError on a duplicate id or a reserved option.
   void Add(EnvRegistration registration);
   bool Contains(std::string_view id) const;
   // Throws ConfigError naming the nearest ids.
