@@ -145,24 +145,29 @@ void Collector::RestartSucceeded() {
 }
 
 void Collector::StepEnvs(std::span<const float> policy_actions) {
-  // a policy whose networks diverged (a step size far too large, a log-std bound of -1e308)
-  // acts with NaN: said so here, where every loop and protocol steps its envs, instead of as
-  // the env's "action element 0 is nan"
-  for (size_t k = 0; k < policy_actions.size(); ++k) {
-    if (!std::isfinite(policy_actions[k])) {
-      throw Error("the policy's action " + std::to_string(k % facts_.action_dim) + " of env " +
-                  std::to_string(k / facts_.action_dim) + " is " +
-                  std::to_string(policy_actions[k]) +
-                  ": its networks diverged; lower the agent's learning rates or step sizes, or "
-                  "bring its bounds (log_std_min, ...) to their usual range");
+  try {
+    if (env_units_) {
+      exec_->Step(policy_actions);
+      return;
     }
+    PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
+    exec_->Step(env_actions_);
+  } catch (const InvalidActionError&) {
+    // a policy whose networks diverged (a step size far too large, a log-std bound of -1e308)
+    // acts with NaN: said so here, where every loop and protocol steps its envs, instead of as
+    // the env's "action element 0 is nan" (looked for only once an env refused an action, so
+    // the step itself pays nothing)
+    for (size_t k = 0; k < policy_actions.size(); ++k) {
+      if (!std::isfinite(policy_actions[k])) {
+        throw Error("the policy's action " + std::to_string(k % facts_.action_dim) + " of env " +
+                    std::to_string(k / facts_.action_dim) + " is " +
+                    std::to_string(policy_actions[k]) +
+                    ": its networks diverged; lower the agent's learning rates or step sizes, or "
+                    "bring its bounds (log_std_min, ...) to their usual range");
+      }
+    }
+    throw;
   }
-  if (env_units_) {
-    exec_->Step(policy_actions);
-    return;
-  }
-  PolicyToEnvActions(policy_actions.data(), num_envs_, facts_, env_actions_.data());
-  exec_->Step(env_actions_);
 }
 
 void Collector::Step(std::span<const float> policy_actions, EpisodeTotals& totals) {
