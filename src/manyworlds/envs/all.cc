@@ -11,6 +11,9 @@
 #ifdef MANYWORLDS_HAS_BOXWORLD
 #include "manyworlds/boxworld/boxworld.h"
 #endif
+#ifdef MANYWORLDS_HAS_DMC
+#include "manyworlds/dmc/dmc.h"
+#endif
 #ifdef MANYWORLDS_HAS_LOCOMOTION
 #include "manyworlds/locomotion/locomotion.h"
 #endif
@@ -31,6 +34,9 @@ const Registry& DefaultRegistry() {
 #ifdef MANYWORLDS_HAS_LOCOMOTION
     RegisterLocomotionSuite(r);
 #endif
+#ifdef MANYWORLDS_HAS_DMC
+    RegisterDmcSuite(r);
+#endif
 #ifdef MANYWORLDS_HAS_BOXWORLD
     RegisterBoxWorldSuite(r);
 #endif
@@ -49,7 +55,8 @@ namespace {
 constexpr char kScriptedEnvs[] = "the manipulation tasks and benchmarks and box-world-*";
 #ifdef MANYWORLDS_HAS_SIM
 constexpr char kMujocoEnvs[] =
-    "the MuJoCo envs (manipulation tasks and benchmarks, box-world-*, half-cheetah-*)";
+    "the MuJoCo envs (manipulation tasks and benchmarks, box-world-*, half-cheetah-*, dmc-*, "
+    "hipbmdp-*)";
 #else
 constexpr char kMujocoEnvs[] = "the MuJoCo envs, which this build lacks (MuJoCo was not found)";
 #endif
