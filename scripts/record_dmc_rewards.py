@@ -5,8 +5,16 @@ our reward functions (src/manyworlds/dmc/rewards.h) and compare step by step.
     python3 -m venv .venv-dmc && .venv-dmc/bin/pip install dm-control
     .venv-dmc/bin/python scripts/record_dmc_rewards.py > tests/dmc/data/dmc_rewards.json
 
-Per task, fixed seeds: one episode of uniform random actions and one of a scripted policy (a
-fixed sinusoid per actuator), STEPS control steps each. Neither policy reaches every branch
+dm-control 1.0.50 needs mujoco 3.17.0 (4.0.0 fails on loading any model):
+
+    .venv-dmc/bin/pip install dm-control==1.0.50 mujoco==3.17.0
+
+Per task, one seed, three whole episodes (1000 control steps): uniform random actions, a
+fixed sinusoid per actuator (SINUSOID_PERIOD control steps, actuator i at phase 2 pi i / n)
+and zero actions. Each episode keeps its initial state (qpos, qvel after dm_control's reset),
+every reward (for the return, and for tests/dmc/physics_replay_test.cc, which replays the
+sinusoid and zero episodes in our env from the same initial state) and, for its first
+RECORDED steps, the quantities the reward reads with dm_control's reward. Neither policy reaches every branch
 of the rewards (finger-spin pays only at <= -15 rad/s, the walker soon lies on the floor), so
 each task's record also holds PROBES states set directly (spinner velocity around the
 threshold; cheetah forward velocity up to past 10 m/s; walker height, pitch and forward
@@ -20,21 +28,26 @@ from importlib.metadata import version
 import numpy as np
 from dm_control import suite
 
-STEPS = 300
+STEPS = 1000
+RECORDED = 300
 PROBES = 60
+SINUSOID_PERIOD = {"finger": 20, "cheetah": 40, "walker": 40}
 SEED = 7
 
 
+NAMES = {"finger": ["hinge_velocity"], "cheetah": ["com_velocity_x"],
+         "walker": ["torso_height", "torso_upright", "com_velocity_x"]}
+
+
 def quantities(domain, physics):
-    """What the task's reward reads, by the names rewards.h uses."""
+    """What the task's reward reads, in the order of NAMES (rewards.h's arguments)."""
     data = physics.named.data
     if domain == "finger":
-        return {"hinge_velocity": float(data.sensordata["hinge_velocity"][0])}
+        return [float(data.sensordata["hinge_velocity"][0])]
     if domain == "cheetah":
-        return {"com_velocity_x": float(data.sensordata["torso_subtreelinvel"][0])}
-    return {"torso_height": float(data.xpos["torso", "z"]),
-            "torso_upright": float(data.xmat["torso", "zz"]),
-            "com_velocity_x": float(data.sensordata["torso_subtreelinvel"][0])}
+        return [float(data.sensordata["torso_subtreelinvel"][0])]
+    return [float(data.xpos["torso", "z"]), float(data.xmat["torso", "zz"]),
+            float(data.sensordata["torso_subtreelinvel"][0])]
 
 
 def sinusoid(t, size, period):
@@ -48,17 +61,24 @@ def episode(domain, task, policy, seed):
     spec = env.action_spec()
     rng = np.random.RandomState(seed)
     env.reset()
-    steps = []
+    physics = env.physics
+    run = {"policy": policy, "seed": seed,
+           "qpos0": [float(x) for x in physics.data.qpos],
+           "qvel0": [float(x) for x in physics.data.qvel],
+           "quantities": [], "rewards": []}
     for t in range(STEPS):
         if policy == "random":
             action = rng.uniform(spec.minimum, spec.maximum)
+        elif policy == "sinusoid":
+            action = sinusoid(t, spec.shape[0], SINUSOID_PERIOD[domain])
         else:
-            action = sinusoid(t, spec.shape[0], 20 if domain == "finger" else 40)
+            action = np.zeros(spec.shape)
         timestep = env.step(action)
-        record = quantities(domain, env.physics)
-        record["reward"] = float(timestep.reward)
-        steps.append(record)
-    return {"policy": policy, "seed": seed, "steps": steps}
+        run["rewards"].append(float(timestep.reward))
+        if t < RECORDED:
+            run["quantities"].append(quantities(domain, physics))
+    run["episode_return"] = sum(run["rewards"])
+    return run
 
 
 def probes(domain, task, seed):
@@ -68,7 +88,7 @@ def probes(domain, task, seed):
     physics = env.physics
     qpos, qvel = physics.named.data.qpos, physics.named.data.qvel
     rng = np.random.RandomState(seed)
-    steps = []
+    steps, rewards = [], []
     for i in range(PROBES):
         if domain == "finger":
             fixed = [-15.0, -15.0 + 1e-9, -15.0 - 1e-9, 0.0, 15.0, -100.0]
@@ -80,18 +100,18 @@ def probes(domain, task, seed):
             qpos["rooty"] = rng.uniform(-math.pi, math.pi)
             qvel["rootx"] = rng.uniform(-1.0, 3.0)
         physics.forward()
-        record = quantities(domain, physics)
-        record["reward"] = float(env.task.get_reward(physics))
-        steps.append(record)
-    return {"policy": "set_state", "seed": seed, "steps": steps}
+        steps.append(quantities(domain, physics))
+        rewards.append(float(env.task.get_reward(physics)))
+    return {"policy": "set_state", "seed": seed, "quantities": steps, "rewards": rewards}
 
 
 def main():
     tasks = {}
     for domain, task in (("finger", "spin"), ("cheetah", "run"), ("walker", "walk")):
-        runs = [episode(domain, task, "random", SEED), episode(domain, task, "sinusoid", SEED),
-                probes(domain, task, SEED)]
-        tasks[f"{domain}-{task}"] = runs
+        runs = [episode(domain, task, policy, SEED) for policy in ("random", "sinusoid", "zero")]
+        runs.append(probes(domain, task, SEED))
+        tasks[f"{domain}-{task}"] = {"names": NAMES[domain],
+                                     "sinusoid_period": SINUSOID_PERIOD[domain], "runs": runs}
     print(json.dumps({"dm_control": version("dm-control"), "mujoco": version("mujoco"),
                       "tasks": tasks}))
 

@@ -1,7 +1,8 @@
 // Our finger-spin, cheetah-run and walker-walk rewards (dmc/rewards.h) against dm_control's
-// own: tests/dmc/data/dmc_rewards.json holds, per step of random, sinusoid and set-state
-// runs of dm_control 1.0.50 (scripts/record_dmc_rewards.py), the quantities each reward reads
-// and dm_control's reward. Ours, fed those quantities, must give the same reward.
+// own: tests/dmc/data/dmc_rewards.json holds, per step of random, sinusoid, zero-action and
+// set-state runs of dm_control 1.0.50 (scripts/record_dmc_rewards.py), the quantities each
+// reward reads (the first 300 steps of an episode) and dm_control's reward. Ours, fed those
+// quantities, must give the same reward.
 #include "manyworlds/dmc/rewards.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -27,11 +29,11 @@ nlohmann::json LoadRecording() {
   return nlohmann::json::parse(in);
 }
 
+// `q` in the order of the recording's "names", which are rewards.h's arguments.
 double OurReward(const std::string& task, const nlohmann::json& q) {
-  if (task == "finger-spin") return FingerSpinReward(q.at("hinge_velocity").get<double>());
-  if (task == "cheetah-run") return CheetahRunReward(q.at("com_velocity_x").get<double>());
-  return WalkerWalkReward(q.at("torso_height").get<double>(), q.at("torso_upright").get<double>(),
-                          q.at("com_velocity_x").get<double>());
+  if (task == "finger-spin") return FingerSpinReward(q.at(0).get<double>());
+  if (task == "cheetah-run") return CheetahRunReward(q.at(0).get<double>());
+  return WalkerWalkReward(q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>());
 }
 
 TEST(DmcRewardAgreementTest, OurRewardsEqualDmControlsOnItsRecordedQuantities) {
@@ -40,13 +42,21 @@ TEST(DmcRewardAgreementTest, OurRewardsEqualDmControlsOnItsRecordedQuantities) {
   for (const std::string task : {"finger-spin", "cheetah-run", "walker-walk"}) {
     SCOPED_TRACE(task);
     ASSERT_TRUE(recording["tasks"].contains(task));
+    const nlohmann::json& record = recording["tasks"][task];
+    const std::vector<std::string> names =
+        task == "finger-spin"   ? std::vector<std::string>{"hinge_velocity"}
+        : task == "cheetah-run" ? std::vector<std::string>{"com_velocity_x"}
+                                : std::vector<std::string>{"torso_height", "torso_upright",
+                                                           "com_velocity_x"};
+    ASSERT_EQ(record["names"].get<std::vector<std::string>>(), names);
     double max_relative = 0.0, max_absolute = 0.0;
     int steps = 0, rewarded = 0, full = 0;
-    for (const nlohmann::json& run : recording["tasks"][task]) {
-      int t = 0;
-      for (const nlohmann::json& step : run["steps"]) {
-        const double theirs = step.at("reward").get<double>();
-        const double ours = OurReward(task, step);
+    for (const nlohmann::json& run : record["runs"]) {
+      const nlohmann::json& quantities = run["quantities"];
+      ASSERT_LE(quantities.size(), run["rewards"].size());
+      for (size_t t = 0; t < quantities.size(); ++t) {
+        const double theirs = run["rewards"][t].get<double>();
+        const double ours = OurReward(task, quantities[t]);
         const double error = std::abs(ours - theirs);
         // 1e-5 relative, or 1e-6 absolute near zero
         ASSERT_LE(error, std::max(1e-6, 1e-5 * std::abs(theirs)))
@@ -57,7 +67,6 @@ TEST(DmcRewardAgreementTest, OurRewardsEqualDmControlsOnItsRecordedQuantities) {
         rewarded += theirs > 0.0;
         full += theirs > 0.99;
         ++steps;
-        ++t;
       }
     }
     // The recording reaches both ends of the reward, not only zeros.

@@ -1,5 +1,6 @@
 #include "manyworlds/dmc/dmc_env.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -214,6 +215,19 @@ void DmcEnv::UseVariant(int variant) {
   xml_ = std::move(xml);
   variant_ = variant;
   mj_forward(model_.get(), data_.get());
+}
+
+void DmcEnv::SetPhysicsState(std::span<const double> qpos, std::span<const double> qvel) {
+  const mjModel* m = model_.get();
+  mjData* d = data_.get();
+  if (qpos.size() != static_cast<size_t>(m->nq) || qvel.size() != static_cast<size_t>(m->nv)) {
+    throw Error("env '" + id() + "': a physics state has " + std::to_string(m->nq) +
+                " positions and " + std::to_string(m->nv) + " velocities, got " +
+                std::to_string(qpos.size()) + " and " + std::to_string(qvel.size()));
+  }
+  std::copy(qpos.begin(), qpos.end(), d->qpos);
+  std::copy(qvel.begin(), qvel.end(), d->qvel);
+  mj_forward(m, d);
 }
 
 void DmcEnv::SaveSceneXml(const std::string& path) const { AtomicWriteFile(path, xml_); }

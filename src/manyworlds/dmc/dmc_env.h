@@ -95,6 +95,10 @@ class DmcEnv : public Env, public sim::SceneSource {
   int variant() const { return variant_; }
   // The MJCF of the current model.
   const std::string& model_xml() const { return xml_; }
+  // Overwrites the running episode's positions and velocities (nq and nv values) and
+  // recomputes what derives from them, e.g. to start from dm_control's recorded initial state
+  // (tests/dmc/physics_replay_test.cc). Throws Error on a wrong size.
+  void SetPhysicsState(std::span<const double> qpos, std::span<const double> qvel);
 
   // SceneSource: the current variant's model; rendered by default from the model's first
   // camera, which mirrors dm_control's camera 0.
