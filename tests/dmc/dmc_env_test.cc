@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <set>
 #include <string>
@@ -358,6 +359,28 @@ TEST(DmcVariantTest, AVariantChangesTheTrajectoryAndTheBaseVariantIsTheSingleTas
     const int base = v == Variation::kWalkerFootLength ? 2 : 0;
     EXPECT_EQ(returns(env, base), returns(single, 0));
   }
+}
+
+TEST(DmcVariantTest, FingerSizesChangeOnlyTheTouchReadings) {
+  // Sites have no mass and do not collide: the dynamics are the same, only the touch
+  // sensors count contacts inside a larger ellipsoid.
+  auto run = [](int variant) {
+    DmcEnv env(Multi(Variation::kFingerSize));
+    env.SetTaskState({env.id(), {{"variant", variant}}});
+    env.Seed(1);
+    std::vector<std::vector<float>> trace = {env.Reset().env_obs};
+    Rng rng(3);
+    for (int t = 0; t < 1000; ++t) trace.push_back(env.Step(RandomAction(rng, 2)).obs.env_obs);
+    return trace;
+  };
+  const auto small = run(0), large = run(9);
+  int touch_differs = 0;
+  for (size_t t = 0; t < small.size(); ++t) {
+    for (int i = 0; i < 7; ++i) ASSERT_EQ(small[t][i], large[t][i]) << t << " " << i;
+    touch_differs += small[t][7] != large[t][7] || small[t][8] != large[t][8];
+  }
+  std::printf("touch readings differ at %d of %zu steps\n", touch_differs, small.size());
+  EXPECT_GT(touch_differs, 0);
 }
 
 TEST(DmcVariantTest, CompiledModelsAreSharedPerVariant) {
