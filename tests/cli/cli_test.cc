@@ -345,6 +345,35 @@ TEST(CliTest, RenderAndExportXmlWorkForTheHalfCheetah) {
   EXPECT_FALSE(fs::exists(dir / "x.png"));
 }
 
+TEST(CliTest, RenderExportXmlAndRolloutWorkForTheDmcSuite) {
+  const fs::path dir = ScratchDir();
+  // the default camera is each model's first, placed as dm_control's camera 0
+  for (const auto& [id, camera] : {std::pair{"dmc-finger-spin", "fixed"},
+                                   std::pair{"hipbmdp-walker-walk-friction", "side"}}) {
+    const RunResult png = RunCli(std::string("render --env ") + id +
+                                     " --policy random --steps 3 --width 32 --height 24 --out d.png",
+                                 dir);
+    ASSERT_EQ(png.exit_code, 0) << png.err;
+    EXPECT_NE(png.out.find(std::string("from camera ") + camera + " after 3 steps"),
+              std::string::npos)
+        << png.out;
+    EXPECT_EQ(Slurp(dir / "d.png").substr(1, 3), "PNG");
+  }
+  // a variant's MJCF holds its parameter: task seed 0 draws variant 6, torso half-length 1.1
+  const RunResult xml =
+      RunCli("export-xml --env hipbmdp-cheetah-run-torso-length --task-seed 0 --out c.xml", dir);
+  ASSERT_EQ(xml.exit_code, 0) << xml.err;
+  EXPECT_NE(xml.out.find("\"variant\":6"), std::string::npos) << xml.out;
+  EXPECT_NE(Slurp(dir / "c.xml").find("fromto=\"-1.1 0 0 1.1 0 0\""), std::string::npos);
+  // MTRL's finger split: one episode per evaluation group, 1000 steps each
+  const RunResult rollout = RunCli(
+      "rollout --env hipbmdp-finger-spin-size --option split=mtrl --episodes 1 --json", dir);
+  ASSERT_EQ(rollout.exit_code, 0) << rollout.err;
+  for (const char* group : {"\"train\"", "\"interpolation\"", "\"extrapolation\""}) {
+    EXPECT_NE(rollout.out.find(group), std::string::npos) << group << rollout.out;
+  }
+}
+
 TEST(CliTest, CheckEnvPassesOnCartpole) {
   const RunResult r = RunCli("check-env --env cartpole");
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
