@@ -14,7 +14,9 @@ fixed sinusoid per actuator (SINUSOID_PERIOD control steps, actuator i at phase 
 and zero actions. Each episode keeps its initial state (qpos, qvel after dm_control's reset),
 every reward (for the return, and for tests/dmc/physics_replay_test.cc, which replays the
 sinusoid and zero episodes in our env from the same initial state) and, for its first
-RECORDED steps, the quantities the reward reads with dm_control's reward. Neither policy reaches every branch
+RECORDED steps, the quantities the reward reads with dm_control's reward; the sinusoid and zero
+episodes also keep their first OBSERVED flat state observations (8 significant digits), which
+the replay compares with ours (order, sizes, and the finger's touch sensors). Neither policy reaches every branch
 of the rewards (finger-spin pays only at <= -15 rad/s, the walker soon lies on the floor), so
 each task's record also holds PROBES states set directly (spinner velocity around the
 threshold; cheetah forward velocity up to past 10 m/s; walker height, pitch and forward
@@ -31,7 +33,8 @@ from dm_control import suite
 STEPS = 1000
 RECORDED = 300
 PROBES = 60
-SINUSOID_PERIOD = {"finger": 20, "cheetah": 40, "walker": 40}
+OBSERVED = 50
+SINUSOID_PERIOD = {"finger": 80, "cheetah": 40, "walker": 40}
 SEED = 7
 
 
@@ -77,6 +80,9 @@ def episode(domain, task, policy, seed):
         run["rewards"].append(float(timestep.reward))
         if t < RECORDED:
             run["quantities"].append(quantities(domain, physics))
+        if t < OBSERVED and policy != "random":
+            flat = np.concatenate([np.ravel(v) for v in timestep.observation.values()])
+            run.setdefault("observations", []).append([float(f"{x:.8g}") for x in flat])
     run["episode_return"] = sum(run["rewards"])
     return run
 

@@ -41,6 +41,10 @@ struct Replay {
   // Largest difference of the reward's quantities (hinge velocity, centre-of-mass velocity,
   // torso height, upright) over the first 50 steps, relative to their largest magnitude.
   double quantity_error_50 = 0.0;
+  // Largest |ours - theirs| / (1 + |theirs|) over the recorded observations (the first 50
+  // steps), and how many of those steps had a touch reading (finger) on either side.
+  double obs_error = 0.0;
+  int touch_steps_ours = 0, touch_steps_theirs = 0;
 };
 
 // The reward's quantities from our step's info, in the recording's order.
@@ -73,6 +77,19 @@ Replay ReplayInOurEnv(DmcTask task, const nlohmann::json& run, int period) {
     }
     const StepResult step = env.Step(action);
     const double reward = step.reward;
+    if (t < run["observations"].size()) {
+      const auto theirs = run["observations"][t].get<std::vector<double>>();
+      const std::vector<float>& ours = step.obs.env_obs;
+      EXPECT_EQ(ours.size(), theirs.size());
+      for (size_t i = 0; i < std::min(ours.size(), theirs.size()); ++i) {
+        replay.obs_error = std::max(replay.obs_error,
+                                    std::abs(ours[i] - theirs[i]) / (1.0 + std::abs(theirs[i])));
+      }
+      if (task == DmcTask::kFingerSpin) {
+        replay.touch_steps_ours += ours[7] > 0.0f || ours[8] > 0.0f;
+        replay.touch_steps_theirs += theirs[7] > 0.0 || theirs[8] > 0.0;
+      }
+    }
     if (t < 50) {
       const std::vector<double> ours = Quantities(task, step);
       const auto theirs = run["quantities"][t].get<std::vector<double>>();
@@ -109,9 +126,17 @@ TEST(DmcPhysicsReplayTest, OurModelsFollowDmControlsFromItsInitialState) {
       const Replay r = ReplayInOurEnv(task, run, record["sinusoid_period"].get<int>());
       ASSERT_EQ(r.ours.size(), 1000u);
       std::printf("%-22s return ours %8.3f  dm_control %8.3f  (diff %+.3f); rewards within 0.01 "
-                  "for the first %d steps; quantities over 50 steps within %.2g (relative)\n",
+                  "for the first %d steps; quantities over 50 steps within %.2g (relative), "
+                  "observations within %.2g\n",
                   label.c_str(), r.ours_return, r.theirs_return, r.ours_return - r.theirs_return,
-                  r.first_divergence, r.quantity_error_50);
+                  r.first_divergence, r.quantity_error_50, r.obs_error);
+      if (task == DmcTask::kFingerSpin) {
+        std::printf("%-22s steps with a touch reading in the first 50: ours %d, dm_control %d\n",
+                    label.c_str(), r.touch_steps_ours, r.touch_steps_theirs);
+        EXPECT_EQ(r.touch_steps_ours, r.touch_steps_theirs);
+      }
+      // the same observation layout and values (recorded to 8 digits)
+      EXPECT_LT(r.obs_error, 1e-3);
       // the same physics at first: MuJoCo 2.2.2 on our MJCF follows MuJoCo 3.17 on theirs
       EXPECT_LT(r.quantity_error_50, 1e-3);
       EXPECT_GE(r.first_divergence, 100);
