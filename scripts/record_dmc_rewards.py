@@ -2,12 +2,10 @@
 physical quantities each reward reads, for tests/dmc/reward_agreement_test.cc to recompute with
 our reward functions (src/manyworlds/dmc/rewards.h) and compare step by step.
 
-    python3 -m venv .venv-dmc && .venv-dmc/bin/pip install dm-control
+    python3 -m venv .venv-dmc && .venv-dmc/bin/pip install dm-control==1.0.50 mujoco==3.17.0
     .venv-dmc/bin/python scripts/record_dmc_rewards.py > tests/dmc/data/dmc_rewards.json
 
-dm-control 1.0.50 needs mujoco 3.17.0 (4.0.0 fails on loading any model):
-
-    .venv-dmc/bin/pip install dm-control==1.0.50 mujoco==3.17.0
+(dm-control 1.0.50 with mujoco 4.0.0, what pip picks by default, fails on loading any model.)
 
 Per task, one seed, three whole episodes (1000 control steps): uniform random actions, a
 fixed sinusoid per actuator (SINUSOID_PERIOD control steps, actuator i at phase 2 pi i / n)
@@ -16,11 +14,12 @@ every reward (for the return, and for tests/dmc/physics_replay_test.cc, which re
 sinusoid and zero episodes in our env from the same initial state) and, for its first
 RECORDED steps, the quantities the reward reads with dm_control's reward; the sinusoid and zero
 episodes also keep their first OBSERVED flat state observations (8 significant digits), which
-the replay compares with ours (order, sizes, and the finger's touch sensors). Neither policy reaches every branch
-of the rewards (finger-spin pays only at <= -15 rad/s, the walker soon lies on the floor), so
-each task's record also holds PROBES states set directly (spinner velocity around the
-threshold; cheetah forward velocity up to past 10 m/s; walker height, pitch and forward
-velocity), each rewarded by dm_control's task itself.
+the replay compares with ours (order, sizes, and the finger's touch sensors).
+
+Neither policy reaches every branch of the rewards (finger-spin pays only at <= -15 rad/s, the
+walker soon lies on the floor), so each task's record also holds PROBES states set directly
+(spinner velocity around the threshold; cheetah forward velocity up to past 10 m/s; walker
+height, pitch and forward velocity), each rewarded by dm_control's task itself.
 """
 
 import json

@@ -4,6 +4,8 @@
 // variant changes, the shared model cache).
 #ifdef MANYWORLDS_DMC_HAS_ENVS
 
+#include "manyworlds/dmc/dmc_env.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -18,17 +20,18 @@
 #include "manyworlds/core/registry.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/dmc/dmc.h"
-#include "manyworlds/dmc/dmc_env.h"
 #include "manyworlds/dmc/rewards.h"
 
 namespace manyworlds::dmc {
 namespace {
 
-const std::vector<std::string> kIds = {
-    "dmc-finger-spin",          "dmc-cheetah-run",
-    "dmc-walker-walk",          "hipbmdp-finger-spin-size",
-    "hipbmdp-cheetah-run-torso-length", "hipbmdp-walker-walk-friction",
-    "hipbmdp-walker-walk-foot-length"};
+const std::vector<std::string> kIds = {"dmc-finger-spin",
+                                       "dmc-cheetah-run",
+                                       "dmc-walker-walk",
+                                       "hipbmdp-finger-spin-size",
+                                       "hipbmdp-cheetah-run-torso-length",
+                                       "hipbmdp-walker-walk-friction",
+                                       "hipbmdp-walker-walk-foot-length"};
 
 const Registry& DmcRegistry() {
   static const Registry registry = [] {
@@ -73,11 +76,11 @@ TEST(DmcSuiteTest, CheckEnvPassesOnEveryId) {
 
 TEST(DmcSuiteTest, SplitIsAnOptionOfTheFingerSizeEnvOnly) {
   EXPECT_NO_THROW(DmcRegistry().Make("hipbmdp-finger-spin-size", {{"split", "mtrl"}}));
-  EXPECT_THROW(DmcRegistry().Make("hipbmdp-finger-spin-size", {{"split", "train"}}),
-               ConfigError);
+  EXPECT_THROW(DmcRegistry().Make("hipbmdp-finger-spin-size", {{"split", "train"}}), ConfigError);
   EXPECT_THROW(DmcRegistry().Make("hipbmdp-walker-walk-friction", {{"split", "mtrl"}}),
                ConfigError);
-  EXPECT_THROW(DmcEnv({.task = DmcTask::kCheetahRun, .variation = Variation::kCheetahTorsoLength,
+  EXPECT_THROW(DmcEnv({.task = DmcTask::kCheetahRun,
+                       .variation = Variation::kCheetahTorsoLength,
                        .split = Split::kMtrl}),
                ConfigError);
   EXPECT_THROW(DmcEnv({.task = DmcTask::kFingerSpin, .variation = Variation::kWalkerFriction}),
@@ -91,9 +94,9 @@ struct Expected {
 };
 
 TEST(DmcEnvTest, SpacesControlTimestepsAndEpisodeLengthAreDmControls) {
-  for (const Expected& e : {Expected{DmcTask::kFingerSpin, 9, 2, 0.02},
-                            Expected{DmcTask::kCheetahRun, 17, 6, 0.01},
-                            Expected{DmcTask::kWalkerWalk, 24, 6, 0.025}}) {
+  for (const Expected& e :
+       {Expected{DmcTask::kFingerSpin, 9, 2, 0.02}, Expected{DmcTask::kCheetahRun, 17, 6, 0.01},
+        Expected{DmcTask::kWalkerWalk, 24, 6, 0.025}}) {
     DmcEnv env(Single(e.task));
     SCOPED_TRACE(env.id());
     EXPECT_EQ(env.spec().env_obs_space.flat_size(), e.obs);
@@ -190,8 +193,8 @@ TEST(DmcEnvTest, RewardsAndObservationsReadTheSimulator) {
           ASSERT_FLOAT_EQ(Info(r, "torso_height"), d->xpos[5]);
           ASSERT_FLOAT_EQ(Info(r, "torso_upright"), d->xmat[9 + 8]);
           ASSERT_NEAR(Info(r, "com_velocity"), d->subtree_linvel[3], 1e-5);
-          ASSERT_EQ(r.reward, static_cast<float>(WalkerWalkReward(d->xpos[5], d->xmat[9 + 8],
-                                                                  d->sensordata[0])));
+          ASSERT_EQ(r.reward, static_cast<float>(
+                                  WalkerWalkReward(d->xpos[5], d->xmat[9 + 8], d->sensordata[0])));
           break;
         }
       }
@@ -349,8 +352,8 @@ TEST(DmcVariantTest, AVariantChangesTheTrajectoryAndTheBaseVariantIsTheSingleTas
     }
     return trace;
   };
-  for (const Variation v : {Variation::kCheetahTorsoLength, Variation::kWalkerFriction,
-                            Variation::kWalkerFootLength}) {
+  for (const Variation v :
+       {Variation::kCheetahTorsoLength, Variation::kWalkerFriction, Variation::kWalkerFootLength}) {
     DmcEnv env(Multi(v));
     DmcEnv single(Single(TaskOf(v)));
     SCOPED_TRACE(env.id());
@@ -402,8 +405,8 @@ TEST(DmcVariantTest, MtrlSplitSamplesTheTrainVariantsAndEvaluatesThreeGroups) {
   EXPECT_EQ(groups[9].name, "touch_site_x=0.25");
   EXPECT_EQ(groups[3].states, (std::vector<TaskState>{{all.id(), {{"variant", 3}}}}));
 
-  DmcEnv mtrl({.task = DmcTask::kFingerSpin, .variation = Variation::kFingerSize,
-               .split = Split::kMtrl});
+  DmcEnv mtrl(
+      {.task = DmcTask::kFingerSpin, .variation = Variation::kFingerSize, .split = Split::kMtrl});
   std::set<int> sampled;
   mtrl.SeedTask(1);
   for (int i = 0; i < 200; ++i) sampled.insert(mtrl.SampleTaskState().params["variant"].get<int>());

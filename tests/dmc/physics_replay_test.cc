@@ -13,11 +13,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "manyworlds/dmc/dmc_env.h"
 
@@ -50,11 +49,12 @@ struct Replay {
 // The reward's quantities from our step's info, in the recording's order.
 std::vector<double> Quantities(DmcTask task, const StepResult& r) {
   switch (task) {
-    case DmcTask::kFingerSpin: return {r.info.Get("hinge_velocity")};
-    case DmcTask::kCheetahRun: return {r.info.Get("com_velocity")};
+    case DmcTask::kFingerSpin:
+      return {r.info.Get("hinge_velocity")};
+    case DmcTask::kCheetahRun:
+      return {r.info.Get("com_velocity")};
     case DmcTask::kWalkerWalk:
-      return {r.info.Get("torso_height"), r.info.Get("torso_upright"),
-              r.info.Get("com_velocity")};
+      return {r.info.Get("torso_height"), r.info.Get("torso_upright"), r.info.Get("com_velocity")};
   }
   return {};
 }
@@ -72,8 +72,8 @@ Replay ReplayInOurEnv(DmcTask task, const nlohmann::json& run, int period) {
   double scale = 0.0;
   for (size_t t = 0; t < replay.theirs.size(); ++t) {
     for (int i = 0; i < n && sinusoid; ++i) {
-      action[i] = static_cast<float>(std::sin(2 * std::numbers::pi * t / period +
-                                              2 * std::numbers::pi * i / n));
+      action[i] = static_cast<float>(
+          std::sin(2 * std::numbers::pi * t / period + 2 * std::numbers::pi * i / n));
     }
     const StepResult step = env.Step(action);
     const double reward = step.reward;
@@ -82,8 +82,8 @@ Replay ReplayInOurEnv(DmcTask task, const nlohmann::json& run, int period) {
       const std::vector<float>& ours = step.obs.env_obs;
       EXPECT_EQ(ours.size(), theirs.size());
       for (size_t i = 0; i < std::min(ours.size(), theirs.size()); ++i) {
-        replay.obs_error = std::max(replay.obs_error,
-                                    std::abs(ours[i] - theirs[i]) / (1.0 + std::abs(theirs[i])));
+        replay.obs_error =
+            std::max(replay.obs_error, std::abs(ours[i] - theirs[i]) / (1.0 + std::abs(theirs[i])));
       }
       if (task == DmcTask::kFingerSpin) {
         replay.touch_steps_ours += ours[7] > 0.0f || ours[8] > 0.0f;
@@ -95,8 +95,8 @@ Replay ReplayInOurEnv(DmcTask task, const nlohmann::json& run, int period) {
       const auto theirs = run["quantities"][t].get<std::vector<double>>();
       for (size_t i = 0; i < ours.size(); ++i) {
         scale = std::max(scale, std::abs(theirs[i]));
-        replay.quantity_error_50 = std::max(replay.quantity_error_50,
-                                            std::abs(ours[i] - theirs[i]));
+        replay.quantity_error_50 =
+            std::max(replay.quantity_error_50, std::abs(ours[i] - theirs[i]));
       }
     }
     replay.ours.push_back(reward);
@@ -125,11 +125,12 @@ TEST(DmcPhysicsReplayTest, OurModelsFollowDmControlsFromItsInitialState) {
       SCOPED_TRACE(label);
       const Replay r = ReplayInOurEnv(task, run, record["sinusoid_period"].get<int>());
       ASSERT_EQ(r.ours.size(), 1000u);
-      std::printf("%-22s return ours %8.3f  dm_control %8.3f  (diff %+.3f); rewards within 0.01 "
-                  "for the first %d steps; quantities over 50 steps within %.2g (relative), "
-                  "observations within %.2g\n",
-                  label.c_str(), r.ours_return, r.theirs_return, r.ours_return - r.theirs_return,
-                  r.first_divergence, r.quantity_error_50, r.obs_error);
+      std::printf(
+          "%-22s return ours %8.3f  dm_control %8.3f  (diff %+.3f); rewards within 0.01 "
+          "for the first %d steps; quantities over 50 steps within %.2g (relative), "
+          "observations within %.2g\n",
+          label.c_str(), r.ours_return, r.theirs_return, r.ours_return - r.theirs_return,
+          r.first_divergence, r.quantity_error_50, r.obs_error);
       if (task == DmcTask::kFingerSpin) {
         std::printf("%-22s steps with a touch reading in the first 50: ours %d, dm_control %d\n",
                     label.c_str(), r.touch_steps_ours, r.touch_steps_theirs);

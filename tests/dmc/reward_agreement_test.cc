@@ -3,18 +3,17 @@
 // set-state runs of dm_control 1.0.50 (scripts/record_dmc_rewards.py), the quantities each
 // reward reads (the first 300 steps of an episode) and dm_control's reward. Ours, fed those
 // quantities, must give the same reward.
-#include "manyworlds/dmc/rewards.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
+#include "manyworlds/dmc/rewards.h"
 
 namespace manyworlds::dmc {
 namespace {
@@ -44,10 +43,10 @@ TEST(DmcRewardAgreementTest, OurRewardsEqualDmControlsOnItsRecordedQuantities) {
     ASSERT_TRUE(recording["tasks"].contains(task));
     const nlohmann::json& record = recording["tasks"][task];
     const std::vector<std::string> names =
-        task == "finger-spin"   ? std::vector<std::string>{"hinge_velocity"}
-        : task == "cheetah-run" ? std::vector<std::string>{"com_velocity_x"}
-                                : std::vector<std::string>{"torso_height", "torso_upright",
-                                                           "com_velocity_x"};
+        task == "finger-spin" ? std::vector<std::string>{"hinge_velocity"}
+        : task == "cheetah-run"
+            ? std::vector<std::string>{"com_velocity_x"}
+            : std::vector<std::string>{"torso_height", "torso_upright", "com_velocity_x"};
     ASSERT_EQ(record["names"].get<std::vector<std::string>>(), names);
     double max_relative = 0.0, max_absolute = 0.0;
     int steps = 0, rewarded = 0, full = 0;

@@ -19,21 +19,22 @@ void RegisterDmcSuite(Registry& registry) {
       {DmcTask::kWalkerWalk, Variation::kWalkerFriction},
       {DmcTask::kWalkerWalk, Variation::kWalkerFootLength}};
   for (const auto& [task, variation] : envs) {
-    std::vector<OptionSpec> options = {
-        {"throw_on_sim_warning", OptionType::kBool, false,
-         "throw on a MuJoCo warning instead of ending the episode"}};
+    std::vector<OptionSpec> options = {{"throw_on_sim_warning", OptionType::kBool, false,
+                                        "throw on a MuJoCo warning instead of ending the episode"}};
     const bool has_split = variation == Variation::kFingerSize;
     if (has_split) {
       options.push_back(
-          {"split", OptionType::kString, "all",
+          {"split",
+           OptionType::kString,
+           "all",
            "'all': sample the 10 variants, evaluate each; 'mtrl': MTRL's split, sample the "
            "train variants 3, 4, 7, 8, evaluate groups train, interpolation (5, 6) and "
            "extrapolation (2, 9)",
            {"all", "mtrl"}});
     }
     registry.Add(EnvRegistration{
-        DmcEnv::IdOf(task, variation), "dmc", DmcEnv::Description(task, variation), std::move(options),
-        [task, variation, has_split](const Options& o) -> std::unique_ptr<Env> {
+        DmcEnv::IdOf(task, variation), "dmc", DmcEnv::Description(task, variation),
+        std::move(options), [task, variation, has_split](const Options& o) -> std::unique_ptr<Env> {
           DmcEnv::Config config{.task = task, .variation = variation};
           if (has_split && o.String("split") == "mtrl") config.split = dmc::Split::kMtrl;
           config.throw_on_sim_warning = o.Bool("throw_on_sim_warning");

@@ -17,8 +17,8 @@ namespace manyworlds::dmc {
 namespace {
 
 // MTEnv's variant files, in order (docs/reference/dmc_hipbmdp.md, section 1.2).
-constexpr std::array<double, kNumVariants> kFingerSizes = {
-    0.025, 0.05, 0.075, 0.1, 0.125, 0.15, 0.175, 0.2, 0.225, 0.25};
+constexpr std::array<double, kNumVariants> kFingerSizes = {0.025, 0.05,  0.075, 0.1,   0.125,
+                                                           0.15,  0.175, 0.2,   0.225, 0.25};
 constexpr std::array<double, kNumVariants> kTorsoHalfLengths = {0.5, 0.6, 0.7, 0.8, 0.9,
                                                                 1.0, 1.1, 1.2, 1.3, 1.4};
 constexpr std::array<double, kNumVariants> kFrictions = {0.7, 0.8, 0.9, 1.0, 1.1,
@@ -43,29 +43,40 @@ constexpr int kWalkerTorso = 1, kWalkerBodies = 7;
 
 int ObsSize(DmcTask task) {
   switch (task) {
-    case DmcTask::kFingerSpin: return 9;
-    case DmcTask::kCheetahRun: return 17;
-    case DmcTask::kWalkerWalk: return 24;
+    case DmcTask::kFingerSpin:
+      return 9;
+    case DmcTask::kCheetahRun:
+      return 17;
+    case DmcTask::kWalkerWalk:
+      return 24;
   }
   return 0;
 }
 
 int Substeps(DmcTask task) {
   switch (task) {
-    case DmcTask::kFingerSpin: return 2;   // 0.02 s control step / 0.01 s
-    case DmcTask::kCheetahRun: return 1;   // no control step given: one physics step
-    case DmcTask::kWalkerWalk: return 10;  // 0.025 s / 0.0025 s
+    case DmcTask::kFingerSpin:
+      return 2;  // 0.02 s control step / 0.01 s
+    case DmcTask::kCheetahRun:
+      return 1;  // no control step given: one physics step
+    case DmcTask::kWalkerWalk:
+      return 10;  // 0.025 s / 0.0025 s
   }
   return 1;
 }
 
 const char* ParameterName(Variation variation) {
   switch (variation) {
-    case Variation::kFingerSize: return "touch_site_x";
-    case Variation::kCheetahTorsoLength: return "torso_half_length";
-    case Variation::kWalkerFriction: return "friction";
-    case Variation::kWalkerFootLength: return "left_foot_half_length";
-    case Variation::kNone: break;
+    case Variation::kFingerSize:
+      return "touch_site_x";
+    case Variation::kCheetahTorsoLength:
+      return "torso_half_length";
+    case Variation::kWalkerFriction:
+      return "friction";
+    case Variation::kWalkerFootLength:
+      return "left_foot_half_length";
+    case Variation::kNone:
+      break;
   }
   return "";
 }
@@ -79,16 +90,24 @@ std::string FormatValue(double x) {
 std::string ModelXmlFor(DmcTask task, Variation variation, int variant) {
   const double value = variation == Variation::kNone ? 0.0 : VariantValues(variation)[variant];
   switch (variation) {
-    case Variation::kFingerSize: return FingerXml({.touch_site_x = value});
-    case Variation::kCheetahTorsoLength: return CheetahXml({.torso_half_length = value});
-    case Variation::kWalkerFriction: return WalkerXml({.friction = value});
-    case Variation::kWalkerFootLength: return WalkerXml({.left_foot_half_length = value});
-    case Variation::kNone: break;
+    case Variation::kFingerSize:
+      return FingerXml({.touch_site_x = value});
+    case Variation::kCheetahTorsoLength:
+      return CheetahXml({.torso_half_length = value});
+    case Variation::kWalkerFriction:
+      return WalkerXml({.friction = value});
+    case Variation::kWalkerFootLength:
+      return WalkerXml({.left_foot_half_length = value});
+    case Variation::kNone:
+      break;
   }
   switch (task) {
-    case DmcTask::kFingerSpin: return FingerXml();
-    case DmcTask::kCheetahRun: return CheetahXml();
-    case DmcTask::kWalkerWalk: return WalkerXml();
+    case DmcTask::kFingerSpin:
+      return FingerXml();
+    case DmcTask::kCheetahRun:
+      return CheetahXml();
+    case DmcTask::kWalkerWalk:
+      return WalkerXml();
   }
   return "";
 }
@@ -112,22 +131,30 @@ void RandomizeJoints(const mjModel* m, mjData* d, Rng& rng, bool free_hinges) {
 
 std::span<const double> VariantValues(Variation variation) {
   switch (variation) {
-    case Variation::kFingerSize: return kFingerSizes;
-    case Variation::kCheetahTorsoLength: return kTorsoHalfLengths;
-    case Variation::kWalkerFriction: return kFrictions;
-    case Variation::kWalkerFootLength: return kFootHalfLengths;
-    case Variation::kNone: break;
+    case Variation::kFingerSize:
+      return kFingerSizes;
+    case Variation::kCheetahTorsoLength:
+      return kTorsoHalfLengths;
+    case Variation::kWalkerFriction:
+      return kFrictions;
+    case Variation::kWalkerFootLength:
+      return kFootHalfLengths;
+    case Variation::kNone:
+      break;
   }
   return {};
 }
 
 DmcTask TaskOf(Variation variation) {
   switch (variation) {
-    case Variation::kCheetahTorsoLength: return DmcTask::kCheetahRun;
+    case Variation::kCheetahTorsoLength:
+      return DmcTask::kCheetahRun;
     case Variation::kWalkerFriction:
-    case Variation::kWalkerFootLength: return DmcTask::kWalkerWalk;
+    case Variation::kWalkerFootLength:
+      return DmcTask::kWalkerWalk;
     case Variation::kFingerSize:
-    case Variation::kNone: break;
+    case Variation::kNone:
+      break;
   }
   return DmcTask::kFingerSpin;
 }
@@ -138,16 +165,24 @@ std::span<const int> MtrlExtrapolationVariants() { return kMtrlExtrapolation; }
 
 std::string DmcEnv::IdOf(DmcTask task, Variation variation) {
   switch (variation) {
-    case Variation::kFingerSize: return "hipbmdp-finger-spin-size";
-    case Variation::kCheetahTorsoLength: return "hipbmdp-cheetah-run-torso-length";
-    case Variation::kWalkerFriction: return "hipbmdp-walker-walk-friction";
-    case Variation::kWalkerFootLength: return "hipbmdp-walker-walk-foot-length";
-    case Variation::kNone: break;
+    case Variation::kFingerSize:
+      return "hipbmdp-finger-spin-size";
+    case Variation::kCheetahTorsoLength:
+      return "hipbmdp-cheetah-run-torso-length";
+    case Variation::kWalkerFriction:
+      return "hipbmdp-walker-walk-friction";
+    case Variation::kWalkerFootLength:
+      return "hipbmdp-walker-walk-foot-length";
+    case Variation::kNone:
+      break;
   }
   switch (task) {
-    case DmcTask::kFingerSpin: return "dmc-finger-spin";
-    case DmcTask::kCheetahRun: return "dmc-cheetah-run";
-    case DmcTask::kWalkerWalk: return "dmc-walker-walk";
+    case DmcTask::kFingerSpin:
+      return "dmc-finger-spin";
+    case DmcTask::kCheetahRun:
+      return "dmc-cheetah-run";
+    case DmcTask::kWalkerWalk:
+      return "dmc-walker-walk";
   }
   return "";
 }
@@ -155,9 +190,15 @@ std::string DmcEnv::IdOf(DmcTask task, Variation variation) {
 std::string DmcEnv::Description(DmcTask task, Variation variation) {
   std::string text;
   switch (task) {
-    case DmcTask::kFingerSpin: text = "Planar finger spinning a hinged body"; break;
-    case DmcTask::kCheetahRun: text = "Planar cheetah running forward"; break;
-    case DmcTask::kWalkerWalk: text = "Planar biped walking forward"; break;
+    case DmcTask::kFingerSpin:
+      text = "Planar finger spinning a hinged body";
+      break;
+    case DmcTask::kCheetahRun:
+      text = "Planar cheetah running forward";
+      break;
+    case DmcTask::kWalkerWalk:
+      text = "Planar biped walking forward";
+      break;
   }
   text += " (MuJoCo, dm_control's task)";
   if (variation != Variation::kNone) {
@@ -173,7 +214,8 @@ EnvSpec DmcEnv::MakeSpec(const Config& config) {
     throw ConfigError("env '" + id + "': the variation belongs to another task");
   }
   if (config.split == Split::kMtrl && config.variation != Variation::kFingerSize) {
-    throw ConfigError("env '" + id + "': option 'split' must be 'all'; 'mtrl' exists only for "
+    throw ConfigError("env '" + id +
+                      "': option 'split' must be 'all'; 'mtrl' exists only for "
                       "hipbmdp-finger-spin-size");
   }
   if (config.horizon < 1) {
@@ -185,8 +227,12 @@ EnvSpec DmcEnv::MakeSpec(const Config& config) {
   spec.id = id;
   spec.description = Description(config.task, config.variation);
   switch (config.task) {
-    case DmcTask::kFingerSpin: spec.info_fields = {"hinge_velocity", "sim_warnings"}; break;
-    case DmcTask::kCheetahRun: spec.info_fields = {"com_velocity", "sim_warnings"}; break;
+    case DmcTask::kFingerSpin:
+      spec.info_fields = {"hinge_velocity", "sim_warnings"};
+      break;
+    case DmcTask::kCheetahRun:
+      spec.info_fields = {"com_velocity", "sim_warnings"};
+      break;
     case DmcTask::kWalkerWalk:
       spec.info_fields = {"torso_height", "torso_upright", "com_velocity", "sim_warnings"};
       break;

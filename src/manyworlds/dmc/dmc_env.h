@@ -55,8 +55,13 @@ namespace manyworlds::dmc {
 enum class DmcTask { kFingerSpin, kCheetahRun, kWalkerWalk };
 
 // What a multi-task env varies; kNone: the single-task env.
-enum class Variation { kNone, kFingerSize, kCheetahTorsoLength, kWalkerFriction,
-                       kWalkerFootLength };
+enum class Variation {
+  kNone,
+  kFingerSize,
+  kCheetahTorsoLength,
+  kWalkerFriction,
+  kWalkerFootLength
+};
 
 // Which variants a multi-task env samples and evaluates. kMtrl (finger size only): MTRL's
 // split, train on variants {3, 4, 7, 8}, evaluate them and the interpolation {5, 6} and

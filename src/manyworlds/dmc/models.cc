@@ -34,6 +34,8 @@ constexpr char kVisual[] = R"(  <visual>
 
 }  // namespace
 
+// The MJCF is laid out as MJCF, not as C++: clang-format would break it at every `+`.
+// clang-format off
 std::string FingerXml(const FingerParams& params) {
   const std::string finger_range = Range(-110, 110);
   const std::string touch_size = N(params.touch_site_x) + " 0.03 0.025";
@@ -256,6 +258,8 @@ std::string WalkerXml(const WalkerParams& params) {
 </mujoco>
 )";
 }
+
+// clang-format on
 
 std::shared_ptr<const mjModel> CompiledModel(const std::string& xml, std::string_view name) {
   static std::mutex mutex;

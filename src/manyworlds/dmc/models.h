@@ -14,11 +14,11 @@
 #ifndef MANYWORLDS_DMC_MODELS_H_
 #define MANYWORLDS_DMC_MODELS_H_
 
+#include <mujoco/mujoco.h>
+
 #include <memory>
 #include <string>
 #include <string_view>
-
-#include <mujoco/mujoco.h>
 
 namespace manyworlds::dmc {
 
