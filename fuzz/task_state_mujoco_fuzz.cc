@@ -1,6 +1,8 @@
 // Any text as a task state of a MuJoCo env: the manipulation tasks, the
-// benchmarks (mt10, ml10, mt1, ml1), half-cheetah-vel and -dir, and the box
-// worlds (box-world-simple and -complex, whose state builds a model). The
+// benchmarks (mt10, ml10, mt1, ml1), half-cheetah-vel and -dir, the box
+// worlds (box-world-simple and -complex, whose state builds a model), and the
+// dm_control-style envs (dmc-*, and hipbmdp-*, whose state picks a compiled
+// model). The
 // first byte picks the env: 0 the one the state's "env" field names (so that the
 // seeds stay valid when the registry grows), n > 0 the (n-1)th in registry
 // order (states of one env given to another). TaskState::Parse and
@@ -42,6 +44,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/core/task_state.h"
+#include "manyworlds/dmc/dmc.h"
 #include "manyworlds/locomotion/locomotion.h"
 #include "manyworlds/manipulation/manipulation.h"
 
@@ -55,6 +58,7 @@ struct Envs {
     manyworlds::RegisterManipulationSuite(registry);
     manyworlds::RegisterLocomotionSuite(registry);
     manyworlds::RegisterBoxWorldSuite(registry);
+    manyworlds::RegisterDmcSuite(registry);  // last: the n > 0 picks of older inputs stay
     const char* only = std::getenv("MANYWORLDS_FUZZ_ENVS");
     for (const std::string& id : registry.Ids()) {
       if (only != nullptr && !id.starts_with(only)) continue;
