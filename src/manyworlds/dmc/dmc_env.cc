@@ -112,6 +112,17 @@ std::string ModelXmlFor(DmcTask task, Variation variation, int variant) {
   return "";
 }
 
+// Whether data made for `a` is laid out as `b` needs it (the counts mj_makeData sizes by).
+bool SameDataLayout(const mjModel* a, const mjModel* b) {
+  return a->nq == b->nq && a->nv == b->nv && a->nu == b->nu && a->na == b->na &&
+         a->nbody == b->nbody && a->njnt == b->njnt && a->ngeom == b->ngeom &&
+         a->nsite == b->nsite && a->ncam == b->ncam && a->nlight == b->nlight &&
+         a->ntendon == b->ntendon && a->nwrap == b->nwrap && a->nmocap == b->nmocap &&
+         a->nsensordata == b->nsensordata && a->nuserdata == b->nuserdata &&
+         a->nconmax == b->nconmax && a->njmax == b->njmax && a->nstack == b->nstack &&
+         a->nM == b->nM;
+}
+
 // dm_control's joint randomiser: a limited hinge or slide uniform in its range; with
 // `free_hinges`, an unlimited hinge uniform in [-pi, pi]; anything else stays.
 void RandomizeJoints(const mjModel* m, mjData* d, Rng& rng, bool free_hinges) {
@@ -250,21 +261,21 @@ DmcEnv::DmcEnv(const Config& config)
 }
 
 void DmcEnv::UseVariant(int variant) {
-  std::string xml = ModelXmlFor(config_.task, config_.variation, variant);
-  if (model_ && xml == xml_) {
-    variant_ = variant;
-    return;
+  const CompiledMjcf*& entry = compiled_[variant];
+  if (entry == nullptr) {
+    entry = &CompiledModel(ModelXmlFor(config_.task, config_.variation, variant), id() + ".xml");
   }
-  std::shared_ptr<const mjModel> model = CompiledModel(xml, id() + ".xml");
-  data_ = sim::MakeData(model.get());
-  model_ = std::move(model);
-  xml_ = std::move(xml);
   variant_ = variant;
-  mj_forward(model_.get(), data_.get());
+  if (entry == current_) return;
+  const mjModel* m = entry->model.get();
+  // Variants differ only in numbers, so the data of one fits another: no reallocation.
+  if (!data_ || !SameDataLayout(current_->model.get(), m)) data_ = sim::MakeData(m);
+  current_ = entry;
+  mj_forward(m, data_.get());  // the scene as the new model shows it; Reset starts afresh
 }
 
 void DmcEnv::SetPhysicsState(std::span<const double> qpos, std::span<const double> qvel) {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   mjData* d = data_.get();
   if (qpos.size() != static_cast<size_t>(m->nq) || qvel.size() != static_cast<size_t>(m->nv)) {
     throw Error("env '" + id() + "': a physics state has " + std::to_string(m->nq) +
@@ -276,7 +287,9 @@ void DmcEnv::SetPhysicsState(std::span<const double> qpos, std::span<const doubl
   mj_forward(m, d);
 }
 
-void DmcEnv::SaveSceneXml(const std::string& path) const { AtomicWriteFile(path, xml_); }
+void DmcEnv::SaveSceneXml(const std::string& path) const {
+  AtomicWriteFile(path, current_->xml);
+}
 
 std::string_view DmcEnv::default_camera() const {
   return config_.task == DmcTask::kFingerSpin ? "fixed" : "side";
@@ -337,7 +350,7 @@ void DmcEnv::DoSetTaskState(const TaskState& state) {
 }
 
 void DmcEnv::InitializeEpisode() {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   mjData* d = data_.get();
   Rng& rng = env_rng();
   switch (config_.task) {
@@ -365,7 +378,7 @@ void DmcEnv::InitializeEpisode() {
 }
 
 void DmcEnv::DoReset(const ObsView& out) {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   mjData* d = data_.get();
   mj_resetData(m, d);
   mj_forward(m, d);
@@ -375,7 +388,7 @@ void DmcEnv::DoReset(const ObsView& out) {
 }
 
 int DmcEnv::ControlStep() {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   mjData* d = data_.get();
   const int before = sim::WarningTotal(d);
   // dm_control's legacy stepping: positions and velocities are up to date after every
@@ -390,7 +403,7 @@ int DmcEnv::ControlStep() {
 }
 
 void DmcEnv::DoStep(std::span<const float> action, const StepView& out) {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   mjData* d = data_.get();
   for (int i = 0; i < m->nu; ++i) d->ctrl[i] = action[i];
   const int warnings = ControlStep();
@@ -406,7 +419,7 @@ void DmcEnv::DoStep(std::span<const float> action, const StepView& out) {
 }
 
 void DmcEnv::WriteObs(std::span<float> out) const {
-  const mjModel* m = model_.get();
+  const mjModel* m = model();
   const mjData* d = data_.get();
   const mjtNum* s = d->sensordata;
   size_t n = 0;

@@ -40,6 +40,7 @@
 #ifndef MANYWORLDS_DMC_DMC_ENV_H_
 #define MANYWORLDS_DMC_DMC_ENV_H_
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -47,6 +48,7 @@
 #include <vector>
 
 #include "manyworlds/core/env.h"
+#include "manyworlds/dmc/models.h"
 #include "manyworlds/sim/model.h"
 #include "manyworlds/sim/scene_source.h"
 
@@ -95,11 +97,11 @@ class DmcEnv : public Env, public sim::SceneSource {
   static std::string IdOf(DmcTask task, Variation variation);
   static std::string Description(DmcTask task, Variation variation);
 
-  const mjModel* model() const { return model_.get(); }
+  const mjModel* model() const { return current_->model.get(); }
   const mjData* data() const { return data_.get(); }
   int variant() const { return variant_; }
   // The MJCF of the current model.
-  const std::string& model_xml() const { return xml_; }
+  const std::string& model_xml() const { return current_->xml; }
   // Overwrites the running episode's positions and velocities (nq and nv values) and
   // recomputes what derives from them, e.g. to start from dm_control's recorded initial state
   // (tests/dmc/physics_replay_test.cc). Throws Error on a wrong size.
@@ -135,8 +137,9 @@ class DmcEnv : public Env, public sim::SceneSource {
   Config config_;
   int substeps_ = 1;
   int variant_ = 0;
-  std::string xml_;
-  std::shared_ptr<const mjModel> model_;
+  // Each variant's document and model, looked up in the process-wide cache on first use.
+  std::array<const CompiledMjcf*, kNumVariants> compiled_{};
+  const CompiledMjcf* current_ = nullptr;
   sim::DataPtr data_;
 };
 

@@ -261,16 +261,14 @@ std::string WalkerXml(const WalkerParams& params) {
 
 // clang-format on
 
-std::shared_ptr<const mjModel> CompiledModel(const std::string& xml, std::string_view name) {
+const CompiledMjcf& CompiledModel(const std::string& xml, std::string_view name) {
   static std::mutex mutex;
-  static std::map<std::string, std::shared_ptr<const mjModel>> cache;
+  static std::map<std::string, CompiledMjcf> cache;  // never erased: references stay valid
   const std::lock_guard<std::mutex> lock(mutex);
-  auto& entry = cache[xml];
-  if (!entry) {
-    sim::ModelPtr model = sim::LoadModelFromString(xml, {}, name);
-    entry = std::shared_ptr<const mjModel>(model.release(), sim::ModelDeleter());
-  }
-  return entry;
+  if (const auto it = cache.find(xml); it != cache.end()) return it->second;
+  sim::ModelPtr model = sim::LoadModelFromString(xml, {}, name);
+  CompiledMjcf entry{xml, std::shared_ptr<const mjModel>(model.release(), sim::ModelDeleter())};
+  return cache.emplace(xml, std::move(entry)).first->second;
 }
 
 }  // namespace manyworlds::dmc

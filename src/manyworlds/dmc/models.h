@@ -46,9 +46,16 @@ std::string FingerXml(const FingerParams& params = {});
 std::string CheetahXml(const CheetahParams& params = {});
 std::string WalkerXml(const WalkerParams& params = {});
 
-// The compiled model of `xml`, compiled once per process and shared (read-only) by every env
-// that asks for the same document. Thread-safe. Throws MujocoError.
-std::shared_ptr<const mjModel> CompiledModel(const std::string& xml, std::string_view name);
+// An MJCF document and its compiled model.
+struct CompiledMjcf {
+  std::string xml;
+  std::shared_ptr<const mjModel> model;
+};
+
+// `xml` compiled once per process and shared (read-only) by every env that asks for the same
+// document; the reference stays valid for the life of the process. Thread-safe. Throws
+// MujocoError.
+const CompiledMjcf& CompiledModel(const std::string& xml, std::string_view name);
 
 }  // namespace manyworlds::dmc
 
