@@ -18,7 +18,10 @@ void RegisterDmcSuite(Registry& registry) {
       {DmcTask::kCheetahRun, Variation::kCheetahTorsoLength},
       {DmcTask::kWalkerWalk, Variation::kWalkerFriction},
       {DmcTask::kWalkerWalk, Variation::kWalkerFootLength}};
-  for (const auto& [task, variation] : envs) {
+  for (const auto& entry : envs) {
+    // plain copies: some compilers refuse to capture structured bindings in a lambda
+    const DmcTask task = entry.first;
+    const Variation variation = entry.second;
     std::vector<OptionSpec> options = {{"throw_on_sim_warning", OptionType::kBool, false,
                                         "throw on a MuJoCo warning instead of ending the episode"}};
     const bool has_split = variation == Variation::kFingerSize;
