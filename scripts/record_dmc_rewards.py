@@ -20,10 +20,16 @@ Neither policy reaches every branch of the rewards (finger-spin pays only at <= 
 walker soon lies on the floor), so each task's record also holds PROBES states set directly
 (spinner velocity around the threshold; cheetah forward velocity up to past 10 m/s; walker
 height, pitch and forward velocity), each rewarded by dm_control's task itself.
+
+With --random-returns N it records nothing and prints instead, per task, the mean and standard
+deviation of the return of N uniform-random-action episodes (seeds 0 .. N-1), dm_control's side
+of the comparison with `manyworlds rollout --env dmc-<task> --episodes N` in docs/fidelity.md.
 """
 
+import argparse
 import json
 import math
+import statistics
 from importlib.metadata import version
 
 import numpy as np
@@ -110,7 +116,32 @@ def probes(domain, task, seed):
     return {"policy": "set_state", "seed": seed, "quantities": steps, "rewards": rewards}
 
 
+def random_returns(episodes):
+    for domain, task in (("finger", "spin"), ("cheetah", "run"), ("walker", "walk")):
+        returns = []
+        for seed in range(episodes):
+            env = suite.load(domain, task, task_kwargs={"random": seed})
+            spec = env.action_spec()
+            rng = np.random.RandomState(1000 + seed)
+            timestep, total = env.reset(), 0.0
+            while not timestep.last():
+                timestep = env.step(rng.uniform(spec.minimum, spec.maximum))
+                total += timestep.reward
+            returns.append(total)
+        sd = statistics.stdev(returns)
+        mean = statistics.mean(returns)
+        print(f"{domain}-{task}: {episodes} random episodes, return mean {mean:.2f} sd {sd:.2f}"
+              f" (standard error {sd / math.sqrt(episodes):.2f})")
+
+
 def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--random-returns", type=int, metavar="N",
+                        help="print random-policy return statistics over N episodes instead")
+    args = parser.parse_args()
+    if args.random_returns:
+        random_returns(args.random_returns)
+        return
     tasks = {}
     for domain, task in (("finger", "spin"), ("cheetah", "run"), ("walker", "walk")):
         runs = [episode(domain, task, policy, SEED) for policy in ("random", "sinusoid", "zero")]
