@@ -32,7 +32,9 @@
 //   cheetah torso length torso half-length 0.5 + 0.1 k
 //   walker friction      sliding friction 0.7 + 0.1 k (floor and body)
 //   walker foot length   left foot half-length 0.08 + 0.01 k
-// Single-task envs have the task state {} and no task observation.
+// Single-task envs have the task state {} and no task observation. Each variant's model is
+// compiled once per process (CompiledModel, dmc/models.h) and shared; switching variants keeps
+// the env's mjData (same layout), so SetTaskState costs microseconds after a variant's first use.
 //
 // info: the quantities the reward reads (finger: hinge_velocity; cheetah: com_velocity;
 // walker: torso_height, torso_upright, com_velocity) and sim_warnings. MuJoCo warnings end
