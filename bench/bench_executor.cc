@@ -204,7 +204,7 @@ void BM_DirectLoop(benchmark::State& state) {
   auto envs = MakeEnvs<CheapEnv>(n);
   std::vector<float> obs(n * 4), task_obs(n), rewards(n), info(n);
   std::unique_ptr<bool[]> terminated(new bool[n]), truncated(new bool[n]);
-  for (int i = 0; i < n; ++i) envs[i]->Reset(ObsView{{&obs[4 * i], 4}, {&task_obs[i], 1}});
+  for (int i = 0; i < n; ++i) envs[i]->Reset(ObsView{{&obs[4 * i], 4}, {&task_obs[i], 1}, {}});
   std::vector<float> actions(n, 0.25f);
   for (auto _ : state) {
     for (int i = 0; i < n; ++i) {
@@ -213,9 +213,10 @@ void BM_DirectLoop(benchmark::State& state) {
                                                &rewards[i],
                                                &terminated[i],
                                                &truncated[i],
-                                               {&info[i], 1}});
+                                               {&info[i], 1},
+                                               {}});
       if (terminated[i] || truncated[i]) {
-        envs[i]->Reset(ObsView{{&obs[4 * i], 4}, {&task_obs[i], 1}});
+        envs[i]->Reset(ObsView{{&obs[4 * i], 4}, {&task_obs[i], 1}, {}});
       }
     }
     benchmark::DoNotOptimize(rewards.data());

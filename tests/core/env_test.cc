@@ -165,17 +165,17 @@ TEST(EnvTest, ViewOverloadsMatchAllocatingCalls) {
   ToyEnv a, b;
   a.Reset();
   std::vector<float> env_obs(2), task_obs(1), info(2);
-  b.Reset(ObsView{env_obs, task_obs});
+  b.Reset(ObsView{env_obs, task_obs, {}});
   float reward = 0;
   bool terminated = false, truncated = false;
   const float act[1] = {0.2f};
   StepResult ra = a.Step(act);
-  b.Step(act, StepView{env_obs, task_obs, &reward, &terminated, &truncated, info});
+  b.Step(act, StepView{env_obs, task_obs, &reward, &terminated, &truncated, info, {}});
   EXPECT_EQ(ra.obs.env_obs, env_obs);
   EXPECT_EQ(ra.reward, reward);
   EXPECT_EQ(ra.info.values, info);
   std::vector<float> wrong(3);
-  EXPECT_THROW(b.Reset(ObsView{wrong, task_obs}), Error);
+  EXPECT_THROW(b.Reset(ObsView{wrong, task_obs, {}}), Error);
 }
 
 TEST(EnvTest, MaxEpisodeStepsCanBeChanged) {

@@ -106,6 +106,10 @@ class BoxWorldEnv : public Env, public sim::SceneSource, public ScriptedPolicySo
   // task state), and its MJCF (WorldMjcf).
   sim::Scene ActiveScene() const override;
   void SaveSceneXml(const std::string& path) const override;
+  // world_model.h's cameras, in every generated world.
+  std::vector<std::string> scene_cameras() const override {
+    return {"top", "perspective", "front"};
+  }
   // ScriptedPolicySource: scripted_policy.h's policy.
   std::unique_ptr<Policy> CreateScriptedPolicy() const override;
 

@@ -80,7 +80,8 @@ Observation Env::Reset() {
   Observation obs;
   obs.env_obs.resize(spec_.env_obs_space.flat_size());
   obs.task_obs.resize(spec_.task_obs_space.flat_size());
-  Reset(ObsView{obs.env_obs, obs.task_obs});
+  obs.pixels.resize(spec_.pixel_space.flat_size());
+  Reset(ObsView{obs.env_obs, obs.task_obs, obs.pixels});
   return obs;
 }
 
@@ -90,26 +91,30 @@ StepResult Env::Step(std::span<const float> action) {
   result.obs.task_obs.resize(spec_.task_obs_space.flat_size());
   result.info.names = spec_.info_fields;
   result.info.values.resize(spec_.info_fields.size());
+  result.obs.pixels.resize(spec_.pixel_space.flat_size());
   Step(action, StepView{result.obs.env_obs, result.obs.task_obs, &result.reward,
-                        &result.terminated, &result.truncated, result.info.values});
+                        &result.terminated, &result.truncated, result.info.values,
+                        result.obs.pixels});
   return result;
 }
 
-void Env::CheckView(size_t env_obs, size_t task_obs, size_t info) const {
+void Env::CheckView(size_t env_obs, size_t task_obs, size_t info, size_t pixels) const {
   if (env_obs != static_cast<size_t>(spec_.env_obs_space.flat_size()) ||
       task_obs != static_cast<size_t>(spec_.task_obs_space.flat_size()) ||
-      info != spec_.info_fields.size()) {
+      info != spec_.info_fields.size() ||
+      pixels != static_cast<size_t>(spec_.pixel_space.flat_size())) {
     throw Error("env '" + spec_.id + "': output buffers have sizes (env_obs " +
                 std::to_string(env_obs) + ", task_obs " + std::to_string(task_obs) + ", info " +
-                std::to_string(info) + "), expected (" +
+                std::to_string(info) + ", pixels " + std::to_string(pixels) + "), expected (" +
                 std::to_string(spec_.env_obs_space.flat_size()) + ", " +
                 std::to_string(spec_.task_obs_space.flat_size()) + ", " +
-                std::to_string(spec_.info_fields.size()) + ")");
+                std::to_string(spec_.info_fields.size()) + ", " +
+                std::to_string(spec_.pixel_space.flat_size()) + ")");
   }
 }
 
 void Env::Reset(const ObsView& out) {
-  CheckView(out.env_obs.size(), out.task_obs.size(), spec_.info_fields.size());
+  CheckView(out.env_obs.size(), out.task_obs.size(), spec_.info_fields.size(), out.pixels.size());
   if (!has_task_) ResetTaskState();
   DoReset(out);
   std::copy(task_obs_.begin(), task_obs_.end(), out.task_obs.begin());
@@ -158,7 +163,7 @@ void Env::Step(std::span<const float> action, const StepView& out) {
                             "': Step called after the episode ended (terminated or truncated); "
                             "call Reset to start a new episode");
   }
-  CheckView(out.env_obs.size(), out.task_obs.size(), out.info.size());
+  CheckView(out.env_obs.size(), out.task_obs.size(), out.info.size(), out.pixels.size());
   ValidateAction(action);
   *out.reward = 0.0f;
   *out.terminated = false;

@@ -43,6 +43,13 @@ struct EnvSpec {
   std::vector<std::string> info_fields;
   // Episodes are truncated after this many steps; 0 means no limit.
   int64_t max_episode_steps = 0;
+  // Pixel observations (the registry option obs=pixels): a Box of shape
+  // (channels, height, width) whose values are bytes in [0, 255], delivered
+  // through the views' `pixels` spans (uint8, row-major, channels first).
+  // Empty (flat_size() 0) for envs without them, which is every env unless a
+  // pixel wrapper (sim/pixel_observation.h) is outside it. env_obs stays the
+  // proprioceptive state: an asymmetric critic reads it beside the pixels.
+  Space pixel_space;
   // False for envs whose dynamics and initial states are deterministic given
   // the task (point navigation, the Sawyer tasks): the env seed then has no
   // effect, and the env checker verifies exactly that instead.
@@ -61,6 +68,7 @@ struct TaskGroup {
 struct Observation {
   std::vector<float> env_obs;
   std::vector<float> task_obs;
+  std::vector<uint8_t> pixels;  // (pixel_space.flat_size()); empty without pixels
 };
 
 // Named float fields reported by a step.
@@ -85,6 +93,7 @@ struct StepResult {
 struct ObsView {
   std::span<float> env_obs;   // (env_obs_space.flat_size())
   std::span<float> task_obs;  // (task_obs_space.flat_size())
+  std::span<uint8_t> pixels;  // (pixel_space.flat_size()); empty without pixels
 };
 
 // Caller-owned output buffers for one step.
@@ -95,6 +104,7 @@ struct StepView {
   bool* terminated = nullptr;
   bool* truncated = nullptr;
   std::span<float> info;      // (info_fields.size())
+  std::span<uint8_t> pixels;  // (pixel_space.flat_size()); empty without pixels
 };
 
 class Env {
@@ -167,7 +177,7 @@ class Env {
   enum class Phase { kNeedsReset, kRunning, kEnded };
 
   void ValidateAction(std::span<const float> action);
-  void CheckView(size_t env_obs, size_t task_obs, size_t info) const;
+  void CheckView(size_t env_obs, size_t task_obs, size_t info, size_t pixels) const;
 
   EnvSpec spec_;
   Rng env_rng_{0};

@@ -101,10 +101,23 @@ void NoteObs(const EnvSpec& spec, int64_t step, const Observation& obs, Trajecto
   }
 }
 
+// Pixel observations enter a record as a 64-bit FNV-1a digest in three exact
+// floats of 22 bits each (the frames themselves would make trajectories huge).
+void AppendPixelDigest(const std::vector<uint8_t>& pixels, std::vector<float>& values) {
+  if (pixels.empty()) return;
+  uint64_t h = 14695981039346656037ULL;
+  for (uint8_t byte : pixels) {
+    h ^= byte;
+    h *= 1099511628211ULL;
+  }
+  for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>((h >> (22 * k)) & 0x3fffff));
+}
+
 void RecordReset(const EnvSpec& spec, const Observation& obs, Trajectory& traj) {
   Record r;
   r.values = obs.env_obs;
   r.values.insert(r.values.end(), obs.task_obs.begin(), obs.task_obs.end());
+  AppendPixelDigest(obs.pixels, r.values);
   traj.records.push_back(std::move(r));
   NoteObs(spec, -1, obs, traj);
 }
@@ -114,6 +127,7 @@ void RecordStep(const EnvSpec& spec, int64_t step, const StepResult& result, Tra
   r.step = step;
   r.values = result.obs.env_obs;
   r.values.insert(r.values.end(), result.obs.task_obs.begin(), result.obs.task_obs.end());
+  AppendPixelDigest(result.obs.pixels, r.values);
   r.values.push_back(result.reward);
   r.values.push_back(result.terminated ? 1.0f : 0.0f);
   r.values.push_back(result.truncated ? 1.0f : 0.0f);

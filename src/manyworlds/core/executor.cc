@@ -116,10 +116,12 @@ struct BatchedExecutor::Impl {
   int64_t env_obs_size = 0;
   int64_t task_obs_size = 0;
   int64_t info_size = 0;
+  int64_t pixels_size = 0;
   std::vector<std::string> info_fields;
 
   // Output buffers, one row per env.
   std::vector<float> env_obs, task_obs, rewards, info, final_env_obs, final_task_obs;
+  std::vector<uint8_t> pixels, final_pixels;  // empty without pixel observations
   std::unique_ptr<bool[]> terminated, truncated;
   std::vector<int64_t> episode_steps;
   // Action copy for Send.
@@ -164,6 +166,7 @@ BatchedExecutor::Impl::Impl(std::vector<std::unique_ptr<Env>> env_list, Executor
   action_size = first.action_space.flat_size();
   env_obs_size = first.env_obs_space.flat_size();
   task_obs_size = first.task_obs_space.flat_size();
+  pixels_size = first.pixel_space.flat_size();
   info_fields = first.info_fields;
   info_size = static_cast<int64_t>(info_fields.size());
   for (size_t i = 1; i < envs.size(); ++i) {
@@ -185,6 +188,10 @@ BatchedExecutor::Impl::Impl(std::vector<std::unique_ptr<Env>> env_list, Executor
       mismatch("task_obs size", std::to_string(spec.task_obs_space.flat_size()),
                std::to_string(task_obs_size));
     }
+    if (spec.pixel_space.flat_size() != pixels_size) {
+      mismatch("pixel observation size", std::to_string(spec.pixel_space.flat_size()),
+               std::to_string(pixels_size));
+    }
     if (spec.info_fields != info_fields) {
       auto join = [](const std::vector<std::string>& v) {
         std::string s = "[";
@@ -203,6 +210,8 @@ BatchedExecutor::Impl::Impl(std::vector<std::unique_ptr<Env>> env_list, Executor
   task_obs.assign(rows * task_obs_size, 0.0f);
   final_env_obs.assign(rows * env_obs_size, 0.0f);
   final_task_obs.assign(rows * task_obs_size, 0.0f);
+  pixels.assign(rows * pixels_size, 0);
+  final_pixels.assign(rows * pixels_size, 0);
   rewards.assign(rows, 0.0f);
   info.assign(rows * info_size, 0.0f);
   terminated = std::make_unique<bool[]>(rows);  // value-initialised: false
@@ -260,17 +269,20 @@ inline void BatchedExecutor::Impl::StepEnv(int i, const float* actions) {
   const size_t row = static_cast<size_t>(i);
   float* eo = env_obs.data() + row * env_obs_size;
   float* to = task_obs.data() + row * task_obs_size;
+  const std::span<uint8_t> px(pixels.data() + row * pixels_size, pixels_size);
   Env& env = *envs[row];
   env.Step(std::span<const float>(actions + row * action_size, action_size),
            StepView{std::span<float>(eo, env_obs_size), std::span<float>(to, task_obs_size),
                     &rewards[row], &terminated[row], &truncated[row],
-                    std::span<float>(info.data() + row * info_size, info_size)});
+                    std::span<float>(info.data() + row * info_size, info_size), px});
   if (options.auto_reset && (terminated[row] || truncated[row])) {
     // Keep the last observation, then start the next episode in place.
     std::copy_n(eo, env_obs_size, final_env_obs.data() + row * env_obs_size);
     std::copy_n(to, task_obs_size, final_task_obs.data() + row * task_obs_size);
+    std::copy_n(px.data(), pixels_size, final_pixels.data() + row * pixels_size);
     episode_steps[row] = 0;
-    env.Reset(ObsView{std::span<float>(eo, env_obs_size), std::span<float>(to, task_obs_size)});
+    env.Reset(ObsView{std::span<float>(eo, env_obs_size), std::span<float>(to, task_obs_size),
+                      px});
     return;
   }
   episode_steps[row] = env.elapsed_steps();
@@ -284,7 +296,8 @@ void BatchedExecutor::Impl::ResetEnv(int i) {
   std::fill_n(info.data() + row * info_size, info_size, 0.0f);
   episode_steps[row] = 0;
   envs[row]->Reset(ObsView{std::span<float>(env_obs.data() + row * env_obs_size, env_obs_size),
-                           std::span<float>(task_obs.data() + row * task_obs_size, task_obs_size)});
+                           std::span<float>(task_obs.data() + row * task_obs_size, task_obs_size),
+                           std::span<uint8_t>(pixels.data() + row * pixels_size, pixels_size)});
 }
 
 bool BatchedExecutor::Impl::RunRange(int begin, int end) {
@@ -478,6 +491,9 @@ std::span<const bool> BatchedExecutor::truncated() const {
 std::span<const float> BatchedExecutor::info() const { return impl_->info; }
 std::span<const float> BatchedExecutor::final_env_obs() const { return impl_->final_env_obs; }
 std::span<const float> BatchedExecutor::final_task_obs() const { return impl_->final_task_obs; }
+int64_t BatchedExecutor::pixels_size() const { return impl_->pixels_size; }
+std::span<const uint8_t> BatchedExecutor::pixels() const { return impl_->pixels; }
+std::span<const uint8_t> BatchedExecutor::final_pixels() const { return impl_->final_pixels; }
 std::span<const int64_t> BatchedExecutor::episode_steps() const { return impl_->episode_steps; }
 
 }  // namespace manyworlds

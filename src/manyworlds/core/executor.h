@@ -51,6 +51,8 @@ class BatchedExecutor {
   int64_t action_size() const;
   int64_t env_obs_size() const;
   int64_t task_obs_size() const;
+  // Bytes of one env's pixel observation (EnvSpec::pixel_space); 0 without pixels.
+  int64_t pixels_size() const;
   const std::vector<std::string>& info_fields() const;
   Env& env(int index);
 
@@ -80,6 +82,9 @@ class BatchedExecutor {
   std::span<const float> final_env_obs() const;  // (num_envs x env_obs_size), rows of ended envs
   std::span<const float> final_task_obs() const; // (num_envs x task_obs_size), rows of ended envs
   std::span<const int64_t> episode_steps() const;  // (num_envs) steps into the current episode
+  // Pixel observations (empty unless the envs have a pixel_space), as env_obs / final_env_obs.
+  std::span<const uint8_t> pixels() const;        // (num_envs x pixels_size)
+  std::span<const uint8_t> final_pixels() const;  // (num_envs x pixels_size), rows of ended envs
 
  private:
   struct Impl;

@@ -47,9 +47,10 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
   std::vector<float> task_obs(spec.task_obs_space.flat_size());
   std::vector<float> info(spec.info_fields.size());
   std::vector<float> action(spec.action_space.flat_size());
+  std::vector<uint8_t> pixels(spec.pixel_space.flat_size());
   float reward = 0.0f;
   bool terminated = false, truncated = false;
-  const StepView step_view{env_obs, task_obs, &reward, &terminated, &truncated, info};
+  const StepView step_view{env_obs, task_obs, &reward, &terminated, &truncated, info, pixels};
 
   RolloutSummary summary;
   summary.episodes.reserve(episodes);
@@ -57,7 +58,7 @@ RolloutSummary Rollout(Env& env, Policy& policy, int episodes, int64_t max_steps
   int successes = 0;
   for (int episode = 0; episode < episodes; ++episode) {
     policy.BeginEpisode();
-    env.Reset(ObsView{env_obs, task_obs});
+    env.Reset(ObsView{env_obs, task_obs, pixels});
     EpisodeStats stats;
     stats.success = success_index >= 0 ? 0 : -1;
     while (true) {

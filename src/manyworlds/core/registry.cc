@@ -189,7 +189,8 @@ std::string Options::String(std::string_view name) const {
 const std::vector<std::string_view>& Registry::ReservedOptions() {
   static const std::vector<std::string_view> names = {
       kMaxEpisodeStepsOption, kTerminateOnSuccessOption, kRecurrentMetaObsOption,
-      kRecurrentMetaObsScaleOption, kActionRepeatOption, kFrameStackOption};
+      kRecurrentMetaObsScaleOption, kActionRepeatOption, kFrameStackOption,
+      kObsOption, kPixelWidthOption, kPixelHeightOption, kCameraOption, kPixelQualityOption};
   return names;
 }
 
@@ -230,6 +231,27 @@ void Registry::Add(EnvRegistration registration) {
        "the env observation is the last this many observations, oldest first (MTEnv's "
        "DeepMind-Control suites: 3; Box observations only)",
        {}, 1.0, static_cast<double>(FrameStack::kMaxFrames)});
+  registration.options.push_back(
+      {std::string(kObsOption), OptionType::kString, "state",
+       "what env_obs holds: 'state' (the env's vector) or 'pixels' (rendered uint8 RGB frames, "
+       "channels first, in the pixel observation; the state stays readable beside them); "
+       "pixels only for MuJoCo envs",
+       {"state", "pixels"}});
+  registration.options.push_back(
+      {std::string(kPixelWidthOption), OptionType::kInt, int64_t{84},
+       "width of pixel observations in pixels (MTEnv: 84)", {}, 1.0, 4096.0});
+  registration.options.push_back(
+      {std::string(kPixelHeightOption), OptionType::kInt, int64_t{84},
+       "height of pixel observations in pixels (MTEnv: 84)", {}, 1.0, 4096.0});
+  registration.options.push_back(
+      {std::string(kCameraOption), OptionType::kString, "",
+       "camera of pixel observations: a preset (front, top, side, gripper) or a camera of the "
+       "model; empty: the env's default (`manyworlds envs --describe ID`)"});
+  registration.options.push_back(
+      {std::string(kPixelQualityOption), OptionType::kString, "fast",
+       "'fast': pixel observations without shadows or multisampling (about 10x faster in "
+       "software rendering); 'full': as the model asks, as dm_control renders",
+       {"fast", "full"}});
   entries_.push_back(std::move(registration));
 }
 
@@ -304,6 +326,24 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
   }
   if (const int64_t repeat = resolved.Int(kActionRepeatOption); repeat > 1) {
     env = std::make_unique<ActionRepeat>(std::move(env), repeat);
+  }
+  if (resolved.String(kObsOption) == "pixels") {
+    if (!pixel_wrapper_) {
+      throw ConfigError("env '" + registration.id +
+                        "': obs=pixels needs a renderer, and this registry has none (the "
+                        "default registry of a build with MuJoCo has one)");
+    }
+    env = pixel_wrapper_(std::move(env), PixelSettings{resolved.Int(kPixelWidthOption),
+                                                       resolved.Int(kPixelHeightOption),
+                                                       resolved.String(kCameraOption),
+                                                       resolved.String(kPixelQualityOption) ==
+                                                           "full"});
+  } else if (!resolved.String(kCameraOption).empty() ||
+             resolved.Int(kPixelWidthOption) != 84 || resolved.Int(kPixelHeightOption) != 84 ||
+             resolved.String(kPixelQualityOption) != "fast") {
+    throw ConfigError("env '" + registration.id +
+                      "': options camera, pixel_width, pixel_height and pixel_quality apply to "
+                      "pixel observations; add obs=pixels (or leave them out)");
   }
   if (resolved.Bool(kTerminateOnSuccessOption)) {
     env = std::make_unique<TerminateOnSuccess>(std::move(env));

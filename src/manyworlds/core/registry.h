@@ -57,6 +57,18 @@ class Options {
 
 using EnvFactory = std::function<std::unique_ptr<Env>(const Options&)>;
 
+// What the registry options obs=pixels, pixel_width, pixel_height and camera ask for.
+struct PixelSettings {
+  int64_t width = 84;
+  int64_t height = 84;
+  std::string camera;  // empty: the env's default camera
+  bool full_quality = false;  // shadows and multisampling as the model asks (slow)
+};
+// Wraps an env so that it renders pixel observations (sim::MakePixelObservation; core cannot
+// render, so the default registry installs it).
+using PixelWrapperFactory =
+    std::function<std::unique_ptr<Env>(std::unique_ptr<Env>, const PixelSettings&)>;
+
 struct EnvRegistration {
   std::string id;
   std::string family;  // e.g. "classic", "manipulation", "benchmark"
@@ -83,6 +95,14 @@ class Registry {
   // stack the last k env observations (FrameStack, outermost); 1 = off.
   static constexpr std::string_view kActionRepeatOption = "action_repeat";
   static constexpr std::string_view kFrameStackOption = "frame_stack";
+  // Options every registration gets: pixel observations (obs=pixels: rendered frames in the
+  // pixel channel, env_obs stays the state), their size and camera. Rendered after the action
+  // repeat, stacked by frame_stack.
+  static constexpr std::string_view kObsOption = "obs";
+  static constexpr std::string_view kPixelWidthOption = "pixel_width";
+  static constexpr std::string_view kPixelHeightOption = "pixel_height";
+  static constexpr std::string_view kCameraOption = "camera";
+  static constexpr std::string_view kPixelQualityOption = "pixel_quality";
 
   // The options above, which Add gives every registration (a registration may not declare them).
   static const std::vector<std::string_view>& ReservedOptions();
@@ -94,6 +114,8 @@ class Registry {
   const EnvRegistration& Find(std::string_view id) const;
   const std::vector<EnvRegistration>& entries() const { return entries_; }
   std::vector<std::string> Ids() const;
+  // Installs what obs=pixels wraps an env with; without it obs=pixels is a ConfigError.
+  void SetPixelWrapper(PixelWrapperFactory factory) { pixel_wrapper_ = std::move(factory); }
 
   // Checks names and types, fills defaults. String values are converted to
   // the declared type, so "n_arms=5" from a command line works.
@@ -103,6 +125,7 @@ class Registry {
 
  private:
   std::vector<EnvRegistration> entries_;
+  PixelWrapperFactory pixel_wrapper_;
 };
 
 // A value for an error message: at most 80 characters ("..." ends a cut one).

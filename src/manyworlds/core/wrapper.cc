@@ -44,7 +44,7 @@ void Wrapper::DoSetTaskState(const TaskState& state) {
 }
 
 void Wrapper::DoReset(const ObsView& out) {
-  inner_->Reset(ObsView{out.env_obs, inner_task_obs_});
+  inner_->Reset(ObsView{out.env_obs, inner_task_obs_, out.pixels});
   // The inner env may switch tasks in its Reset (SampleRandomTask does); keep
   // the mirrored task observation current. Wrappers with their own task
   // observation space are left alone.
@@ -53,7 +53,7 @@ void Wrapper::DoReset(const ObsView& out) {
 
 void Wrapper::DoStep(std::span<const float> action, const StepView& out) {
   inner_->Step(action, StepView{out.env_obs, inner_task_obs_, out.reward, out.terminated,
-                                out.truncated, out.info});
+                                out.truncated, out.info, out.pixels});
 }
 
 }  // namespace manyworlds

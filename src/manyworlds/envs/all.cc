@@ -6,6 +6,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/wrapper.h"
 #ifdef MANYWORLDS_HAS_SIM
+#include "manyworlds/sim/pixel_observation.h"
 #include "manyworlds/sim/scene_source.h"
 #endif
 #ifdef MANYWORLDS_HAS_BOXWORLD
@@ -39,6 +40,9 @@ const Registry& DefaultRegistry() {
 #endif
 #ifdef MANYWORLDS_HAS_BOXWORLD
     RegisterBoxWorldSuite(r);
+#endif
+#ifdef MANYWORLDS_HAS_SIM
+    r.SetPixelWrapper(sim::MakePixelObservation);
 #endif
     return r;
   }();

@@ -33,7 +33,7 @@ constexpr char kModelHead[] = R"(<mujoco model="manyworlds_half_cheetah">
   </default>
   <worldbody>
     <light pos="0 0 3" dir="0 0 -1" diffuse="0.8 0.8 0.8"/>
-    <geom name="floor" type="plane" size="60 60 0.1" pos="0 0 0" conaffinity="1"
+    <geom name="floor" type="plane" size="60 60 2" pos="0 0 0" conaffinity="1"
           rgba="0.35 0.4 0.45 1"/>
     <body name="torso" pos="0 0 0.7">
       <camera name="track" mode="trackcom" pos="0 -3 0.3" xyaxes="1 0 0 0 0 1"/>

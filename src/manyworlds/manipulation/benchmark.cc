@@ -291,12 +291,13 @@ void Benchmark::DoSetTaskState(const TaskState& state) {
 }
 
 void Benchmark::DoReset(const ObsView& out) {
-  Member(active_task_).Reset(ObsView{out.env_obs, member_task_obs_});
+  Member(active_task_).Reset(ObsView{out.env_obs, member_task_obs_, out.pixels});
 }
 
 void Benchmark::DoStep(std::span<const float> action, const StepView& out) {
   Member(active_task_).Step(action, StepView{out.env_obs, member_task_obs_, out.reward,
-                                                 out.terminated, out.truncated, out.info});
+                                                 out.terminated, out.truncated, out.info,
+                                                 out.pixels});
 }
 
 namespace {

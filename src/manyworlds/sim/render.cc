@@ -6,6 +6,8 @@
 #include <array>
 #include <cstdlib>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <utility>
 
 #include <GL/osmesa.h>
@@ -81,16 +83,30 @@ std::vector<std::string> CameraNames(const mjModel* model) {
   return names;
 }
 
+// The GL resources of one model.
+struct Renderer::Entry {
+  uint64_t key = 0;
+  uint64_t last_used = 0;
+  mjrContext con;
+  mjvScene scene;
+  DataPtr scratch;  // mjv_updateScene writes to the mjData it gets; callers' stay untouched
+
+  Entry() {
+    mjr_defaultContext(&con);
+    mjv_defaultScene(&scene);
+  }
+  // The owning context must be current.
+  void Free() {
+    mjr_freeContext(&con);
+    mjv_freeScene(&scene);
+  }
+};
+
 struct Renderer::Gl {
   OSMesaContext context = nullptr;
   std::vector<unsigned char> window;  // OSMesa's default framebuffer (unused)
-  // per model
-  const mjModel* model = nullptr;
-  std::array<int, 7> sizes{};  // ModelSizes(model)
-  bool has_context = false;
-  mjrContext con;
-  mjvScene scene;
-  DataPtr scratch;
+  std::vector<std::unique_ptr<Entry>> entries;
+  uint64_t clock = 0;
   mjvOption option = DefaultOption();
   std::vector<uint8_t> row;  // for flipping
 
@@ -101,27 +117,73 @@ struct Renderer::Gl {
     }
   }
 
-  void FreeModel() {
-    if (has_context) {
-      mjr_freeContext(&con);
-      mjv_freeScene(&scene);
-      has_context = false;
-    }
-    scratch.reset();
-    model = nullptr;
+  void FreeAll() {
+    for (auto& e : entries) e->Free();
+    entries.clear();
   }
 
   ~Gl() {
     if (context) {
       // mjr_freeContext deletes GL objects: the context must be current
-      if (has_context) OSMesaMakeCurrent(context, window.data(), GL_UNSIGNED_BYTE, 1, 1);
-      FreeModel();
+      if (!entries.empty()) OSMesaMakeCurrent(context, window.data(), GL_UNSIGNED_BYTE, 1, 1);
+      FreeAll();
       OSMesaDestroyContext(context);
     }
   }
 };
 
-Renderer::Renderer(int width, int height) : width_(width), height_(height) {
+namespace {
+
+// MuJoCo 2.2.2 loads GL entry points into process-wide pointers in every
+// mjr_makeContext, and Mesa's context creation is not documented as
+// thread-safe: renderers of different threads take turns for both.
+std::mutex& GlSetupMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// FNV-1a over a byte range, folded into `hash`.
+uint64_t HashBytes(uint64_t hash, const void* data, size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (size_t i = 0; i < bytes; ++i) {
+    hash ^= p[i];
+    hash *= 1099511628211ULL;
+  }
+  return hash;
+}
+
+// A model recognised by its address and sizes (the unkeyed Render).
+uint64_t AddressKey(const mjModel* m) {
+  const auto address = reinterpret_cast<uintptr_t>(m);
+  const std::array<int, 7> sizes = ModelSizes(m);
+  uint64_t hash = HashBytes(14695981039346656037ULL, &address, sizeof address);
+  return HashBytes(hash, sizes.data(), sizeof sizes) | 1;  // odd: never a content key
+}
+
+}  // namespace
+
+uint64_t ModelRenderKey(const mjModel* m) {
+  uint64_t h = 14695981039346656037ULL;
+  // every size of the model: the int fields from nq to nbuffer
+  h = HashBytes(h, &m->nq, reinterpret_cast<const char*>(&m->opt) -
+                               reinterpret_cast<const char*>(&m->nq));
+  h = HashBytes(h, &m->vis, sizeof m->vis);
+  h = HashBytes(h, m->mesh_vert, sizeof(float) * 3 * m->nmeshvert);
+  h = HashBytes(h, m->mesh_normal, sizeof(float) * 3 * m->nmeshvert);
+  h = HashBytes(h, m->mesh_texcoord, sizeof(float) * 2 * m->nmeshtexvert);
+  h = HashBytes(h, m->mesh_face, sizeof(int) * 3 * m->nmeshface);
+  h = HashBytes(h, m->skin_vert, sizeof(float) * 3 * m->nskinvert);
+  h = HashBytes(h, m->hfield_size, sizeof(mjtNum) * 4 * m->nhfield);
+  h = HashBytes(h, m->hfield_data, sizeof(float) * m->nhfielddata);
+  h = HashBytes(h, m->tex_type, sizeof(int) * m->ntex);
+  h = HashBytes(h, m->tex_height, sizeof(int) * m->ntex);
+  h = HashBytes(h, m->tex_width, sizeof(int) * m->ntex);
+  h = HashBytes(h, m->tex_rgb, m->ntexdata);
+  return h & ~uint64_t{1};  // even: never an address key
+}
+
+Renderer::Renderer(int width, int height, RenderQuality quality)
+    : width_(width), height_(height), quality_(quality) {
   if (width < 1 || height < 1 || width > kMaxSize || height > kMaxSize) {
     throw ConfigError("image size " + std::to_string(width) + "x" + std::to_string(height) +
                       " is not allowed: width and height must be in [1, " +
@@ -138,30 +200,47 @@ Renderer::Renderer(int width, int height) : width_(width), height_(height) {
   }
   InstallMujocoHandlers();
   gl_ = std::make_unique<Gl>();
-  // RGBA colour, 24-bit depth, 8-bit stencil, compatibility profile (MuJoCo
-  // 2.2.2 draws with the fixed-function pipeline).
-  gl_->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  {
+    const std::lock_guard<std::mutex> lock(GlSetupMutex());
+    // RGBA colour, 24-bit depth, 8-bit stencil, compatibility profile (MuJoCo
+    // 2.2.2 draws with the fixed-function pipeline).
+    gl_->context = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 0, nullptr);
+  }
   if (!gl_->context) {
     throw RenderError(
         "could not create an OSMesa (offscreen OpenGL) context; is Mesa's libOSMesa working? "
         "(Debian: apt-get install libosmesa6)");
   }
   gl_->window.resize(static_cast<size_t>(width) * height * 4);
-  mjr_defaultContext(&gl_->con);
-  mjv_defaultScene(&gl_->scene);
 }
 
 Renderer::~Renderer() = default;
 
 void Renderer::ForgetModel() {
   gl_->MakeCurrent(width_, height_);
-  gl_->FreeModel();
+  gl_->FreeAll();
 }
 
-void Renderer::Prepare(const mjModel* model) {
+int Renderer::cached_models() const { return static_cast<int>(gl_->entries.size()); }
+
+Renderer::Entry& Renderer::Prepare(const mjModel* model, uint64_t key) {
   gl_->MakeCurrent(width_, height_);
-  if (model == gl_->model && ModelSizes(model) == gl_->sizes) return;
-  gl_->FreeModel();
+  ++gl_->clock;
+  for (auto& e : gl_->entries) {
+    if (e->key == key) {
+      e->last_used = gl_->clock;
+      return *e;
+    }
+  }
+  if (static_cast<int>(gl_->entries.size()) >= kMaxModels) {
+    auto oldest = std::min_element(gl_->entries.begin(), gl_->entries.end(),
+                                   [](const auto& a, const auto& b) {
+                                     return a->last_used < b->last_used;
+                                   });
+    (*oldest)->Free();
+    gl_->entries.erase(oldest);
+  }
+  auto entry = std::make_unique<Entry>();
 
   // The offscreen framebuffer gets its size from the model's <visual>
   // settings. Set them on a shallow copy of the struct: mjr_makeContext only
@@ -169,11 +248,12 @@ void Renderer::Prepare(const mjModel* model) {
   mjModel sized = *model;
   sized.vis.global.offwidth = width_;
   sized.vis.global.offheight = height_;
-  mjr_defaultContext(&gl_->con);
+  if (quality_ == RenderQuality::kFast) sized.vis.quality.offsamples = 0;
   try {
-    mjr_makeContext(&sized, &gl_->con, mjFONTSCALE_100);
+    const std::lock_guard<std::mutex> lock(GlSetupMutex());
+    mjr_makeContext(&sized, &entry->con, mjFONTSCALE_100);
   } catch (const MujocoError& e) {
-    mjr_freeContext(&gl_->con);
+    mjr_freeContext(&entry->con);
     std::string message = std::string("could not set up MuJoCo rendering: ") + e.what();
     if (std::string_view(e.what()).find("gladLoadGL") != std::string_view::npos &&
         dlsym(RTLD_DEFAULT, "eglGetProcAddress") != nullptr) {
@@ -184,19 +264,20 @@ void Renderer::Prepare(const mjModel* model) {
     }
     throw RenderError(message);
   }
-  gl_->has_context = true;
-  mjv_defaultScene(&gl_->scene);
-  mjv_makeScene(model, &gl_->scene, std::max(1000, 2 * (model->ngeom + model->nsite)));
-  mjr_setBuffer(mjFB_OFFSCREEN, &gl_->con);
-  if (gl_->con.currentBuffer != mjFB_OFFSCREEN || gl_->con.offWidth != width_ ||
-      gl_->con.offHeight != height_) {
-    gl_->FreeModel();
+  mjv_makeScene(model, &entry->scene, std::max(1000, 2 * (model->ngeom + model->nsite)));
+  if (quality_ == RenderQuality::kFast) entry->scene.flags[mjRND_SHADOW] = 0;
+  mjr_setBuffer(mjFB_OFFSCREEN, &entry->con);
+  if (entry->con.currentBuffer != mjFB_OFFSCREEN || entry->con.offWidth != width_ ||
+      entry->con.offHeight != height_) {
+    entry->Free();
     throw RenderError("the OpenGL context has no usable offscreen framebuffer of " +
                       std::to_string(width_) + "x" + std::to_string(height_));
   }
-  gl_->scratch = MakeData(model);
-  gl_->model = model;
-  gl_->sizes = ModelSizes(model);
+  entry->scratch = MakeData(model);
+  entry->key = key;
+  entry->last_used = gl_->clock;
+  gl_->entries.push_back(std::move(entry));
+  return *gl_->entries.back();
 }
 
 mjvCamera Renderer::ResolveCamera(const mjModel* model, const mjData* data,
@@ -236,6 +317,11 @@ mjvCamera Renderer::ResolveCamera(const mjModel* model, const mjData* data,
 
 void Renderer::Render(const mjModel* model, const mjData* data, std::string_view camera,
                       std::span<uint8_t> rgb) {
+  Render(model, data, camera, rgb, AddressKey(model));
+}
+
+void Renderer::Render(const mjModel* model, const mjData* data, std::string_view camera,
+                      std::span<uint8_t> rgb, uint64_t model_key) {
   const size_t row_bytes = static_cast<size_t>(width_) * 3;
   if (rgb.size() != row_bytes * height_) {
     throw Error("Renderer::Render: the buffer holds " + std::to_string(rgb.size()) +
@@ -243,15 +329,17 @@ void Renderer::Render(const mjModel* model, const mjData* data, std::string_view
                 " RGB image needs " + std::to_string(row_bytes * height_));
   }
   mjvCamera cam = ResolveCamera(model, data, camera);
-  Prepare(model);
+  Entry& entry = Prepare(model, model_key);
 
-  mjData* scratch = gl_->scratch.get();
+  // a keyed entry may have been made from another model of equal sizes: the
+  // scratch data fits every model with the same sizes
+  mjData* scratch = entry.scratch.get();
   mj_copyData(scratch, model, data);
-  mjv_updateScene(model, scratch, &gl_->option, nullptr, &cam, mjCAT_ALL, &gl_->scene);
+  mjv_updateScene(model, scratch, &gl_->option, nullptr, &cam, mjCAT_ALL, &entry.scene);
   const mjrRect viewport{0, 0, width_, height_};
-  mjr_setBuffer(mjFB_OFFSCREEN, &gl_->con);
-  mjr_render(viewport, &gl_->scene, &gl_->con);
-  mjr_readPixels(rgb.data(), nullptr, viewport, &gl_->con);
+  mjr_setBuffer(mjFB_OFFSCREEN, &entry.con);
+  mjr_render(viewport, &entry.scene, &entry.con);
+  mjr_readPixels(rgb.data(), nullptr, viewport, &entry.con);
 
   // OpenGL's rows run bottom to top
   gl_->row.resize(row_bytes);
@@ -270,5 +358,17 @@ std::vector<uint8_t> Renderer::Render(const mjModel* model, const mjData* data,
   Render(model, data, camera, rgb);
   return rgb;
 }
+
+Renderer& ThreadRenderer(int width, int height, RenderQuality quality) {
+  // one renderer per thread, image size and quality; freed with the thread
+  thread_local std::vector<std::unique_ptr<Renderer>> renderers;
+  for (auto& r : renderers) {
+    if (r->width() == width && r->height() == height && r->quality() == quality) return *r;
+  }
+  renderers.push_back(std::make_unique<Renderer>(width, height, quality));
+  return *renderers.back();
+}
+
+std::string RenderBackendName() { return "OSMesa (Mesa llvmpipe)"; }
 
 }  // namespace manyworlds::sim

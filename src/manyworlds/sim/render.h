@@ -40,6 +40,17 @@
 //
 // Not thread-safe: one renderer per thread (the OSMesa context is made
 // current on the calling thread). Several renderers may coexist.
+//
+// Several models: the GL resources of up to kMaxModels models are kept (the
+// least recently used one goes first), so that one renderer serves a batch of
+// envs on different tasks. A model is recognised either by its address (and
+// sizes) or, in the keyed Render overload, by a caller's key that stands for
+// everything mjr_makeContext uploads (ModelRenderKey): envs whose models share
+// meshes and textures then share one set of GL resources.
+//
+// ThreadRenderer(w, h) is the renderer of the calling thread for one image
+// size: pixel observations (pixel_observation.h) use it, so that N envs
+// stepped by T executor threads hold T OpenGL contexts, not N.
 #ifndef MANYWORLDS_SIM_RENDER_H_
 #define MANYWORLDS_SIM_RENDER_H_
 
@@ -69,20 +80,37 @@ const std::vector<std::string>& CameraPresetNames();
 // Preset names followed by the names of the model's cameras.
 std::vector<std::string> CameraNames(const mjModel* model);
 
+// A key for the GL resources of a model: a hash of its sizes, its <visual>
+// settings and the data mjr_makeContext uploads (meshes, skins, height
+// fields, textures). Two models with the same key render alike from one
+// mjrContext. Reads every mesh vertex: compute it when a model changes, not
+// every frame.
+uint64_t ModelRenderKey(const mjModel* model);
+
+// kFull renders as the model asks (shadows, its multisampling: MuJoCo's
+// default 4x); kFast without shadows or multisampling. On llvmpipe the shadow
+// map (4096 x 4096 by default) and multisampling cost most of a small frame:
+// an 84 x 84 Sawyer frame takes about 25 ms full and 2 ms fast (2026-11-28,
+// docs/benchmarks.md).
+enum class RenderQuality { kFull, kFast };
+
 class Renderer {
  public:
   // Image sizes from 1 to kMaxSize pixels per side.
   static constexpr int kMaxSize = 4096;
+  // Models whose GL resources are kept at once.
+  static constexpr int kMaxModels = 64;
 
   // Creates the OSMesa context. Throws ConfigError for a bad size,
   // RenderError if no context can be made.
-  Renderer(int width, int height);
+  Renderer(int width, int height, RenderQuality quality = RenderQuality::kFull);
   ~Renderer();
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
   int width() const { return width_; }
   int height() const { return height_; }
+  RenderQuality quality() const { return quality_; }
 
   // Renders `data` (of `model`) seen from `camera` into `rgb` (width x
   // height x 3 bytes, rows top to bottom). Neither is modified; both must be
@@ -95,20 +123,37 @@ class Renderer {
   void Render(const mjModel* model, const mjData* data, std::string_view camera,
               std::span<uint8_t> rgb);
   std::vector<uint8_t> Render(const mjModel* model, const mjData* data, std::string_view camera);
+  // As above, with the model recognised by `model_key` (ModelRenderKey).
+  void Render(const mjModel* model, const mjData* data, std::string_view camera,
+              std::span<uint8_t> rgb, uint64_t model_key);
 
   // Drops the per-model GL resources; the next Render rebuilds them.
   void ForgetModel();
+  // Models whose GL resources are held now.
+  int cached_models() const;
 
  private:
   struct Gl;  // OSMesa and MuJoCo GL state (keeps GL headers out of here)
 
-  void Prepare(const mjModel* model);
+  struct Entry;
+  // The GL resources for a model (made current first), built if missing.
+  Entry& Prepare(const mjModel* model, uint64_t key);
   // The MuJoCo camera for a name; body-relative presets read data->xpos.
   mjvCamera ResolveCamera(const mjModel* model, const mjData* data, std::string_view camera) const;
 
   int width_, height_;
+  RenderQuality quality_;
   std::unique_ptr<Gl> gl_;
 };
+
+// The calling thread's renderer for width x height images, made on first use
+// (ConfigError / RenderError as the constructor) and freed when the thread
+// ends. Not to be kept past the thread's end.
+Renderer& ThreadRenderer(int width, int height, RenderQuality quality);
+
+// What renders offscreen in this build and process: "OSMesa (Mesa llvmpipe)"
+// or "none (built without OSMesa)". For logs and error messages.
+std::string RenderBackendName();
 
 }  // namespace manyworlds::sim
 

@@ -8,6 +8,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <mujoco/mujoco.h>
 
@@ -35,6 +36,11 @@ class SceneSource {
   // The camera a renderer uses unless told otherwise: a preset of
   // sim/render.h or a camera the model defines.
   virtual std::string_view default_camera() const { return "front"; }
+  // The cameras every scene of this env defines, so that a camera name can be
+  // checked before the env has a scene (a benchmark or the box world before
+  // their first task state). Envs whose scene exists from construction need
+  // not say.
+  virtual std::vector<std::string> scene_cameras() const { return {}; }
 };
 
 }  // namespace manyworlds::sim

@@ -52,7 +52,7 @@ void AppendTaskOneHot::WriteOneHot(std::span<float> env_obs) {
 }
 
 void AppendTaskOneHot::DoReset(const ObsView& out) {
-  Wrapper::DoReset(ObsView{out.env_obs.first(inner_obs_size_), out.task_obs});
+  Wrapper::DoReset(ObsView{out.env_obs.first(inner_obs_size_), out.task_obs, out.pixels});
   WriteOneHot(out.env_obs);
 }
 

@@ -127,12 +127,12 @@ void MultiEnv::DoSetTaskState(const TaskState& state) {
 }
 
 void MultiEnv::DoReset(const ObsView& out) {
-  envs_[active_]->Reset(ObsView{out.env_obs, member_task_obs_[active_]});
+  envs_[active_]->Reset(ObsView{out.env_obs, member_task_obs_[active_], out.pixels});
 }
 
 void MultiEnv::DoStep(std::span<const float> action, const StepView& out) {
   envs_[active_]->Step(action, StepView{out.env_obs, member_task_obs_[active_], out.reward,
-                                        out.terminated, out.truncated, out.info});
+                                        out.terminated, out.truncated, out.info, out.pixels});
 }
 
 }  // namespace manyworlds

@@ -54,7 +54,7 @@ RecurrentMetaObservation::RecurrentMetaObservation(std::unique_ptr<Env> inner,
 }
 
 void RecurrentMetaObservation::DoReset(const ObsView& out) {
-  Wrapper::DoReset(ObsView{out.env_obs.first(inner_obs_size_), out.task_obs});
+  Wrapper::DoReset(ObsView{out.env_obs.first(inner_obs_size_), out.task_obs, out.pixels});
   std::span<float> extra = out.env_obs.subspan(inner_obs_size_);
   std::fill(extra.begin(), extra.end(), 0.0f);
 }

@@ -39,6 +39,12 @@ std::vector<std::unique_ptr<Env>> MakeEnvs(const TaskSet& tasks, const Registry&
   std::vector<std::unique_ptr<Env>> envs;
   for (int64_t i = 0; i < tasks.size() * envs_per_task; ++i) {
     envs.push_back(tasks.MakeEnv(i / envs_per_task, registry));
+    // the learners read env_obs (the state): rendering frames nobody reads would only cost
+    if (envs.back()->spec().pixel_space.flat_size() > 0) {
+      throw ConfigError("env '" + envs.back()->spec().id +
+                        "': obs=pixels is for Python agents (manyworlds.make, make_vec) so far; "
+                        "the C++ agents learn from the state, so drop obs=pixels");
+    }
   }
   return envs;
 }
