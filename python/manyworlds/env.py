@@ -53,7 +53,10 @@ class ManyworldsEnv(gym.Env):
 
     Observations are ``{"env_obs": float32 array, "task_obs": float32 array}`` (the
     ``observation_space`` is a ``gymnasium.spaces.Dict``), or with ``flat_obs=True`` one float32
-    array with both concatenated. ``info`` holds the env's named float fields every step, e.g.
+    array with both concatenated. With ``obs="pixels"`` (MuJoCo envs) ``env_obs`` is the rendered
+    frames, uint8 ``(3 x frame_stack, pixel_height, pixel_width)``, and ``"state"`` holds the
+    float32 state beside them; ``flat_obs=True`` then gives the frames alone (a uint8 Box, what
+    CNN policies such as SB3's ``CnnPolicy`` take). ``info`` holds the env's named float fields every step, e.g.
     ``info["success"]``.
 
     Args:
@@ -98,10 +101,15 @@ class ManyworldsEnv(gym.Env):
 
         self._action_desc = self._core.action_space
         self.action_space = _spaces.action_space(self._action_desc)
+        pixel_desc = self._core.pixel_space
+        self.pixels = _spaces.has_pixels(pixel_desc)
         self.observation_space = _spaces.observation_space(
-            self._core.env_obs_space, self._core.task_obs_space, self.flat_obs
+            self._core.env_obs_space, self._core.task_obs_space, self.flat_obs, pixel_desc
         )
-        self._env_shape = tuple(self.observation_space["env_obs"].shape) if not self.flat_obs else None
+        if self.pixels:
+            self._env_shape = tuple(_spaces.observation_box(self._core.env_obs_space).shape)
+        else:
+            self._env_shape = tuple(self.observation_space["env_obs"].shape) if not self.flat_obs else None
         self._info_fields: List[str] = list(self._core.info_fields)
         self._discrete_n = int(self._action_desc["n"]) if self._action_desc["kind"] == "discrete" else 0
 
@@ -239,6 +247,11 @@ class ManyworldsEnv(gym.Env):
         return self._core
 
     def _obs(self, env_obs: np.ndarray, task_obs: np.ndarray) -> ObsType:
+        if self.pixels:
+            frames = self._live().pixels
+            if self.flat_obs:
+                return frames
+            return {"env_obs": frames, "task_obs": task_obs, "state": env_obs.reshape(self._env_shape)}
         if self.flat_obs:
             return np.concatenate([env_obs, task_obs])
         return {"env_obs": env_obs.reshape(self._env_shape), "task_obs": task_obs}

@@ -10,7 +10,8 @@ the last one is ``infos[i]["terminal_observation"]``), so the executor maps onto
     venv = SB3VecEnv("point-nav", num_envs=8, threads=2)
     model = PPO("MlpPolicy", venv, seed=0).learn(20_000)
 
-Observations are flat (``flat_obs=True``) float32 arrays. Unlike ``ManyworldsVectorEnv``, this
+Observations are flat (``flat_obs=True``) float32 arrays, or with ``obs="pixels"`` the uint8
+frames (``CnnPolicy``). Unlike ``ManyworldsVectorEnv``, this
 adapter **copies** observations and rewards every step, because SB3's learners keep a reference
 to the previous observation while stepping. Importing this module needs stable-baselines3.
 """
@@ -36,6 +37,8 @@ class SB3VecEnv(VecEnv):
         kwargs["flat_obs"] = True
         self.venv = ManyworldsVectorEnv(env_ids, num_envs, **kwargs)
         super().__init__(self.venv.num_envs, self.venv.single_observation_space, self.venv.single_action_space)
+        # float32 states, or uint8 frames with obs="pixels" (SB3's CnnPolicy scales them)
+        self._obs_dtype = self.venv.single_observation_space.dtype
         self._actions: Optional[np.ndarray] = None
 
     def reset(self) -> np.ndarray:
@@ -45,7 +48,7 @@ class SB3VecEnv(VecEnv):
             seed = [None if s is None else int(s) % 2**64 for s in seeds]
         obs, _ = self.venv.reset(seed=seed)
         self._seeds = [None] * self.num_envs
-        return np.array(obs, dtype=np.float32, copy=True)
+        return np.array(obs, dtype=self._obs_dtype, copy=True)
 
     def step_async(self, actions: np.ndarray) -> None:
         self.venv.step_async(actions)
@@ -58,11 +61,11 @@ class SB3VecEnv(VecEnv):
         for i in range(self.num_envs):
             info = {name: float(infos[name][i]) for name in fields}
             if dones[i]:
-                info["terminal_observation"] = np.asarray(infos["final_obs"][i], dtype=np.float32)
+                info["terminal_observation"] = np.asarray(infos["final_obs"][i], dtype=self._obs_dtype)
                 info["TimeLimit.truncated"] = bool(truncated[i] and not terminated[i])
             out_infos.append(info)
         return (
-            np.array(obs, dtype=np.float32, copy=True),
+            np.array(obs, dtype=self._obs_dtype, copy=True),
             rewards.astype(np.float32, copy=True),
             dones.copy(),
             out_infos,

@@ -106,6 +106,11 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
         action_desc = first.action_space
         env_obs_desc = first.env_obs_space
         task_obs_desc = first.task_obs_space
+        pixel_desc = first.pixel_space
+        for (env_id, _), env in zip(entries, core_envs):
+            if tuple(env.pixel_space["shape"]) != tuple(pixel_desc["shape"]):
+                raise ValueError(f"env '{env_id}' has pixel observations of shape {tuple(env.pixel_space['shape'])}, "
+                                 f"env '{entries[0][0]}' of shape {tuple(pixel_desc['shape'])}; a batch needs one shape")
         for (env_id, _), env in zip(entries, core_envs):
             if env.action_space["kind"] != action_desc["kind"]:
                 raise ValueError(
@@ -127,7 +132,9 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
         self._discrete = action_desc["kind"] == "discrete"
 
         self.single_action_space = _spaces.action_space(action_desc)
-        self.single_observation_space = _spaces.observation_space(env_obs_desc, task_obs_desc, self.flat_obs)
+        self.pixels = _spaces.has_pixels(pixel_desc)
+        self.single_observation_space = _spaces.observation_space(env_obs_desc, task_obs_desc, self.flat_obs,
+                                                                  pixel_desc)
         self.action_space = batch_space(self.single_action_space, self.num_envs)
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
 
@@ -148,6 +155,11 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
         self._all = np.ones(n, dtype=bool)
         self._all.setflags(write=False)
         self._obs_dict = {"env_obs": self._env_obs, "task_obs": self._task_obs}
+        if self.pixels:
+            # zero copy: uint8 views of the executor's pixel buffers
+            self._pixels = self._exec.pixels
+            self._final_pixels = self._exec.final_pixels
+            self._obs_dict = {"env_obs": self._pixels, "task_obs": self._task_obs, "state": self._env_obs}
         if self.flat_obs and self._exec.task_obs_size == 0:
             self._flat = self._env_obs.reshape(n, -1)
         else:
@@ -276,7 +288,9 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
         return np.ascontiguousarray(a, dtype=np.float32)
 
     def _observations(self) -> Any:
-        if not self.flat_obs:
+        if self.pixels and self.flat_obs:
+            return self._pixels
+        if not self.flat_obs or self.pixels:
             return self._obs_dict
         if self._flat is not None:
             return self._flat
@@ -293,7 +307,14 @@ class ManyworldsVectorEnv(gym.vector.VectorEnv):
             final_obs = np.empty(self.num_envs, dtype=object)
             final_info: Dict[str, Any] = {}
             for i in np.flatnonzero(ended):
-                if self.flat_obs:
+                if self.pixels:
+                    frames = self._final_pixels[i].copy()
+                    final_obs[i] = frames if self.flat_obs else {
+                        "env_obs": frames,
+                        "task_obs": self._final_task_obs[i].copy(),
+                        "state": self._final_env_obs[i].copy(),
+                    }
+                elif self.flat_obs:
                     final_obs[i] = np.concatenate([self._final_env_obs[i].ravel(), self._final_task_obs[i].ravel()])
                 else:
                     final_obs[i] = {

@@ -20,6 +20,7 @@ struct PyEnv {
   std::string family;  // registry family: classic, manipulation, benchmark
   std::unique_ptr<Env> env;
   std::shared_ptr<void> renderer;  // sim::Renderer, made on the first render
+  std::vector<uint8_t> pixels;     // the last pixel observation (empty without obs=pixels)
 
   Env& get();
   const Env& get() const;

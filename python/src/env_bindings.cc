@@ -74,8 +74,10 @@ py::tuple Reset(PyEnv& self) {
   Env& env = self.get();
   py::array_t<float> env_obs(env.spec().env_obs_space.flat_size());
   py::array_t<float> task_obs(env.spec().task_obs_space.flat_size());
+  self.pixels.resize(env.spec().pixel_space.flat_size());
   ObsView view{{env_obs.mutable_data(), static_cast<size_t>(env_obs.size())},
-               {task_obs.mutable_data(), static_cast<size_t>(task_obs.size())}};
+               {task_obs.mutable_data(), static_cast<size_t>(task_obs.size())},
+               self.pixels};
   {
     py::gil_scoped_release release;
     env.Reset(view);
@@ -93,12 +95,14 @@ py::tuple Step(PyEnv& self, const py::handle& action) {
   py::array_t<float> info(static_cast<py::ssize_t>(spec.info_fields.size()));
   float reward = 0.0f;
   bool terminated = false, truncated = false;
+  self.pixels.resize(spec.pixel_space.flat_size());
   StepView view{{env_obs.mutable_data(), static_cast<size_t>(env_obs.size())},
                 {task_obs.mutable_data(), static_cast<size_t>(task_obs.size())},
                 &reward,
                 &terminated,
                 &truncated,
-                {info.mutable_data(), static_cast<size_t>(info.size())}};
+                {info.mutable_data(), static_cast<size_t>(info.size())},
+                self.pixels};
   {
     py::gil_scoped_release release;
     env.Step({a.data(), static_cast<size_t>(a.size())}, view);
@@ -185,6 +189,18 @@ void BindEnv(py::module_& m) {
       .def_property_readonly("env_obs_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().env_obs_space); })
       .def_property_readonly("task_obs_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().task_obs_space); })
       .def_property_readonly("info_fields", [](const PyEnv& e) { return e.get().spec().info_fields; })
+      .def_property_readonly("pixel_space", [](const PyEnv& e) { return SpaceToPython(e.get().spec().pixel_space); },
+                             "Space of the pixel observation (shape (3 x frames, height, width), "
+                             "uint8 values); shape (0,) without obs=pixels.")
+      .def_property_readonly("pixels",
+                             [](const PyEnv& e) {
+                               const std::vector<int64_t>& shape = e.get().spec().pixel_space.shape();
+                               py::array_t<uint8_t> out(std::vector<py::ssize_t>(shape.begin(), shape.end()));
+                               std::copy(e.pixels.begin(), e.pixels.end(), out.mutable_data());
+                               return out;
+                             },
+                             "The pixel observation of the last reset or step (a uint8 copy, "
+                             "channels first); shape (0,) without obs=pixels.")
       .def_property_readonly("max_episode_steps", [](const PyEnv& e) { return e.get().spec().max_episode_steps; })
       .def_property_readonly("uses_env_seed", [](const PyEnv& e) { return e.get().spec().uses_env_seed; })
       .def_property_readonly("elapsed_steps", [](const PyEnv& e) { return e.get().elapsed_steps(); })

@@ -237,6 +237,21 @@ void BindExecutor(py::module_& m) {
              return View(self, e.info().data(),
                          {e.num_envs(), static_cast<py::ssize_t>(e.info_fields().size())});
            }, "(num_envs, len(info_fields)) float32 view.")
+      .def_property_readonly("pixels", [](py::object self) {
+             auto& exec = self.cast<PyExecutor&>().get();
+             std::vector<py::ssize_t> shape{exec.num_envs()};
+             for (int64_t d : exec.env(0).spec().pixel_space.shape()) shape.push_back(d);
+             return View(self, exec.pixels().data(), shape);
+           }, "(num_envs, 3 x frames, height, width) uint8 view of the pixel observations; "
+              "(num_envs, 0) without obs=pixels.")
+      .def_property_readonly("final_pixels", [](py::object self) {
+             auto& exec = self.cast<PyExecutor&>().get();
+             std::vector<py::ssize_t> shape{exec.num_envs()};
+             for (int64_t d : exec.env(0).spec().pixel_space.shape()) shape.push_back(d);
+             return View(self, exec.final_pixels().data(), shape);
+           }, "As pixels: the last pixel observation of the envs whose episode just ended.")
+      .def("pixel_space", [](PyExecutor& e, int i) { return SpaceToPython(e.get().env(i).spec().pixel_space); }, py::arg("index") = 0,
+           "Pixel-observation space of env `index` (shape (0,) without obs=pixels).")
       .def_property_readonly("episode_steps", [](py::object self) {
              auto& e = self.cast<PyExecutor&>().get();
              return View(self, e.episode_steps().data(), {e.num_envs()});
@@ -253,6 +268,7 @@ void BindExecutor(py::module_& m) {
              d["info"] = reinterpret_cast<uintptr_t>(exec.info().data());
              d["final_env_obs"] = reinterpret_cast<uintptr_t>(exec.final_env_obs().data());
              d["final_task_obs"] = reinterpret_cast<uintptr_t>(exec.final_task_obs().data());
+             d["pixels"] = reinterpret_cast<uintptr_t>(exec.pixels().data());
              return d;
            },
            "Addresses of the C++ buffers, to check that the numpy views share them.");
