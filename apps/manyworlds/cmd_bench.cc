@@ -20,7 +20,10 @@ struct BenchEnvArgs {
 
 void RunBenchEnv(const BenchEnvArgs& args) {
   const nlohmann::json options = ParseEnvOptions(args.options);
-  Make(args.env, options);  // a bad id or option fails here, before any timing
+  // a bad id or option fails here, before any timing
+  if (const std::string note = PixelObservationNote(*Make(args.env, options)); !note.empty()) {
+    std::cerr << args.env << ": " << note << "\n";
+  }
   const ThroughputResult r =
       MeasureThroughput([&](int) { return Make(args.env, options); }, args.throughput);
   if (args.json) {

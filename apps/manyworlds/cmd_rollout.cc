@@ -90,6 +90,9 @@ void RunRollout(const RolloutArgs& args) {
   CheckPolicyName(args.policy);
   const nlohmann::json options = ParseEnvOptions(args.options);
   auto env = Make(args.env, options);
+  if (const std::string note = PixelObservationNote(*env); !note.empty()) {
+    std::cerr << args.env << ": " << note << "\n";
+  }
   const EnvMaker make_env = [&] { return Make(args.env, options); };
   if (const auto groups = env->EvaluationTasks(); !groups.empty()) {
     RunGroupRollout(*env, make_env, groups, args);

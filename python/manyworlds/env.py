@@ -103,6 +103,9 @@ class ManyworldsEnv(gym.Env):
         self.action_space = _spaces.action_space(self._action_desc)
         pixel_desc = self._core.pixel_space
         self.pixels = _spaces.has_pixels(pixel_desc)
+        if self.pixels:
+            gym.logger.info(f"env '{env_id}': pixel observations {tuple(pixel_desc['shape'])} rendered with "
+                            f"{_core.render_backend}")
         self.observation_space = _spaces.observation_space(
             self._core.env_obs_space, self._core.task_obs_space, self.flat_obs, pixel_desc
         )

@@ -172,6 +172,12 @@ void BindEnv(py::module_& m) {
       false;
 #endif
 
+#ifdef MANYWORLDS_PY_RENDER
+  m.attr("render_backend") = sim::RenderBackendName();
+#else
+  m.attr("render_backend") = "none (built without OSMesa)";
+#endif
+
   py::class_<Rng>(m, "Rng", "manyworlds' portable random generator (xoshiro256**).")
       .def(py::init<uint64_t>(), py::arg("seed") = 0)
       .def("next_u64", &Rng::NextU64, "The next raw 64-bit value.")

@@ -1,6 +1,7 @@
 // Runs the built `manyworlds` binary (MANYWORLDS_CLI_PATH) as a user would.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -372,6 +373,28 @@ TEST(CliTest, RenderExportXmlAndRolloutWorkForTheDmcSuite) {
   for (const char* group : {"\"train\"", "\"interpolation\"", "\"extrapolation\""}) {
     EXPECT_NE(rollout.out.find(group), std::string::npos) << group << rollout.out;
   }
+}
+
+TEST(CliTest, PixelObservationsSayWhatRenderedThemOrWhyNot) {
+  const RunResult ok = RunCli(
+      "rollout --env dmc-cheetah-run --option obs=pixels --option pixel_width=16 "
+      "--option pixel_height=16 --option max_episode_steps=3 --episodes 1");
+  ASSERT_EQ(ok.exit_code, 0) << ok.err;
+  EXPECT_NE(ok.err.find("pixel observations 3x16x16 from camera 'side', rendered with OSMesa"),
+            std::string::npos)
+      << ok.err;
+  // a machine whose OSMesa cannot render (Mesa crashes with this driver; the renderer refuses
+  // it first): one line naming the backend, no crash
+  setenv("GALLIUM_DRIVER", "zink", 1);
+  const RunResult refused = RunCli("rollout --env reach --option obs=pixels --episodes 1");
+  unsetenv("GALLIUM_DRIVER");
+  EXPECT_EQ(refused.exit_code, 1) << refused.err;
+  EXPECT_TRUE(IsOneErrorLine(refused.err)) << refused.err;
+  EXPECT_NE(refused.err.find("OSMesa"), std::string::npos) << refused.err;
+  // envs without a scene: a configuration error
+  const RunResult classic = RunCli("rollout --env cartpole --option obs=pixels");
+  EXPECT_EQ(classic.exit_code, 2) << classic.err;
+  EXPECT_NE(classic.err.find("no MuJoCo scene"), std::string::npos) << classic.err;
 }
 
 TEST(CliTest, CheckEnvPassesOnCartpole) {

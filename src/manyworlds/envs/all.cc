@@ -136,4 +136,21 @@ MujocoScene ActiveMujocoScene(const Env& env) { throw NoSceneError(env, "renderi
 
 #endif  // MANYWORLDS_HAS_SIM
 
+std::string PixelObservationNote(const Env& env) {
+  const Space& pixels = env.spec().pixel_space;
+  if (pixels.flat_size() == 0) return "";
+  std::string shape;
+  for (int64_t d : pixels.shape()) shape += (shape.empty() ? "" : "x") + std::to_string(d);
+  std::string note = "pixel observations " + shape;
+#ifdef MANYWORLDS_HAS_SIM
+  if (const auto* wrapper = FindThroughWrappers<sim::PixelObservation>(env)) {
+    note += " from camera '" + wrapper->camera() + "'";
+  }
+#endif
+#ifdef MANYWORLDS_HAS_RENDER
+  note += ", rendered with " + sim::RenderBackendName();
+#endif
+  return note;
+}
+
 }  // namespace manyworlds

@@ -68,6 +68,10 @@ MujocoScene ActiveMujocoScene(const Env& env);
 // before it has a task too.
 void CheckMujocoEnv(const Env& env, const std::string& use);
 
+// "pixel observations 9x84x84 from camera 'fixed', rendered with OSMesa (Mesa llvmpipe)" for
+// an env made with obs=pixels (what logs say about the frames), "" for other envs.
+std::string PixelObservationNote(const Env& env);
+
 }  // namespace manyworlds
 
 #endif  // MANYWORLDS_ENVS_ALL_H_
