@@ -32,7 +32,8 @@ void AddExportXmlCommand(CLI::App& app, CommandContext& /*context*/) {
       "export-xml", "Write the complete MJCF of one task variation of a MuJoCo env");
   cmd->add_option("--env", args->env,
                   "env id: a MuJoCo env (a manipulation task or benchmark, "
-                  "box-world-simple/-complex, half-cheetah-vel/-dir)")
+                  "box-world-simple/-complex, half-cheetah-vel/-dir, "
+                  "dmc-finger-spin/-cheetah-run/-walker-walk, the hipbmdp-* variants of those)")
       ->required();
   cmd->add_option("--task-seed", args->task_seed, "task seed: which variation is drawn")
       ->capture_default_str()

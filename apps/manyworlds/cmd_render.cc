@@ -181,9 +181,13 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       "with OSMesa (software OpenGL) and encoded by the ffmpeg program.");
   cmd->add_option("--env", args->env,
                   "env id: a MuJoCo env (a manipulation task or benchmark, "
-                  "box-world-simple/-complex, half-cheetah-vel/-dir)")
+                  "box-world-simple/-complex, half-cheetah-vel/-dir, "
+                  "dmc-finger-spin/-cheetah-run/-walker-walk, the hipbmdp-* variants of those)")
       ->required();
-  cmd->add_option("--policy", args->policy, "policy: scripted, or random")->capture_default_str();
+  cmd->add_option("--policy", args->policy,
+                  "policy: scripted (the manipulation tasks and benchmarks, box-world-*), or "
+                  "random (any env, e.g. half-cheetah-*, dmc-*, hipbmdp-*)")
+      ->capture_default_str();
   cmd->add_option("--seed", args->seed, "env seed (dynamics, initial states; policy seed)")
       ->capture_default_str()
       ->check(Unsigned());
@@ -193,8 +197,10 @@ void AddRenderCommand(CLI::App& app, CommandContext& context) {
       ->check(Unsigned());
   cmd->add_option("--camera", args->camera,
                   "camera: front, top, side, gripper, or a camera named in the model (the "
-                  "box world's: top, perspective; the half-cheetah's: track). Default: track "
-                  "for the half-cheetah, front for the others");
+                  "box world's: top, perspective; the half-cheetah's: track; the dmc-*/hipbmdp-* "
+                  "finger's: fixed, cheetah's and walker's: side). Default: track for the "
+                  "half-cheetah, fixed for the finger, side for the dmc cheetah and walker, front "
+                  "for the others");
   cmd->add_option("--width", args->width, "image width in pixels (even for .mp4)")
       ->capture_default_str()
       ->check(CLI::Range(1, 4096));
