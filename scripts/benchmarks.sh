@@ -27,6 +27,9 @@ B=build/manyworlds
     done
     build/bench/bench_manipulation --benchmark_repetitions=5 \
       --benchmark_report_aggregates_only=true --benchmark_min_time=0.3
+    # The DeepMind-Control-style suites' state steps against raw MuJoCo.
+    build/bench/bench_dmc --benchmark_repetitions=5 --benchmark_min_time=0.3 \
+      --benchmark_enable_random_interleaving=true --benchmark_report_aggregates_only=true
     # OpenBLAS kernels: the ones chosen for this CPU, and the generic ones
     # Debian's OpenBLAS 0.3.21 falls back to on CPUs newer than it knows.
     $B bench agent --tasks 1
