@@ -180,8 +180,7 @@ int RegisterAll() {
   for (const TaskCase& c : kCases) {
     benchmark::RegisterBenchmark((std::string("BM_EnvStep/") + c.name).c_str(), BM_EnvStep, c)
         ->Unit(benchmark::kMicrosecond);
-    benchmark::RegisterBenchmark((std::string("BM_RawPhysics/") + c.name).c_str(),
-                                 BM_RawPhysics, c)
+    benchmark::RegisterBenchmark((std::string("BM_RawPhysics/") + c.name).c_str(), BM_RawPhysics, c)
         ->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark((std::string("BM_EnvReset/") + c.name).c_str(), BM_EnvReset, c)
         ->Unit(benchmark::kMicrosecond);
