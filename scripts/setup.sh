@@ -9,6 +9,7 @@ packages=(
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libosmesa6-dev           # offscreen rendering
+  libegl-dev libegl-mesa0  # EGL rendering (MANYWORLDS_GL=egl): headers at build time, Mesa's EGL to test it
   ffmpeg                   # video encoding for `manyworlds render`
   zlib1g-dev               # CRC-32 of checkpoint files
   ccache                   # the Python package's build reuses the main build's objects (scripts/test.sh)

@@ -391,6 +391,26 @@ TEST(CliTest, PixelObservationsSayWhatRenderedThemOrWhyNot) {
   EXPECT_EQ(refused.exit_code, 1) << refused.err;
   EXPECT_TRUE(IsOneErrorLine(refused.err)) << refused.err;
   EXPECT_NE(refused.err.find("OSMesa"), std::string::npos) << refused.err;
+  // the EGL backend, chosen at run time (here Mesa's software EGL device: the same rasteriser as
+  // OSMesa, so the same image, byte for byte)
+  const fs::path dir = ScratchDir();
+  const std::string render =
+      "render --env dmc-cheetah-run --policy random --steps 5 --width 64 --height 48 --out ";
+  ASSERT_EQ(RunCli(render + "osmesa.png", dir).exit_code, 0);
+  setenv("MANYWORLDS_GL", "egl", 1);
+  const RunResult egl = RunCli(render + "egl.png", dir);
+  const RunResult egl_rollout = RunCli(
+      "rollout --env reach --option obs=pixels --option max_episode_steps=2 --episodes 1");
+  setenv("MANYWORLDS_GL", "vulkan", 1);
+  const RunResult unknown = RunCli("rollout --env reach --option obs=pixels --episodes 1");
+  unsetenv("MANYWORLDS_GL");
+  ASSERT_EQ(egl.exit_code, 0) << egl.err;
+  EXPECT_EQ(Slurp(dir / "egl.png"), Slurp(dir / "osmesa.png"));
+  ASSERT_EQ(egl_rollout.exit_code, 0) << egl_rollout.err;
+  EXPECT_NE(egl_rollout.err.find("rendered with EGL"), std::string::npos) << egl_rollout.err;
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_TRUE(IsOneErrorLine(unknown.err)) << unknown.err;
+  EXPECT_NE(unknown.err.find("allowed: osmesa"), std::string::npos) << unknown.err;
   // envs without a scene: a configuration error
   const RunResult classic = RunCli("rollout --env cartpole --option obs=pixels");
   EXPECT_EQ(classic.exit_code, 2) << classic.err;

@@ -13,7 +13,7 @@
 // Quality: without shadows or multisampling unless settings.full_quality
 // (RenderQuality in render.h: about 10x faster on llvmpipe).
 //
-// Backend: OSMesa (software, llvmpipe), the one this build links. llvmpipe
+// Backend: OSMesa, or EGL with MANYWORLDS_GL=egl (render.h). Mesa's llvmpipe
 // would start its own render threads in every context; pixel observations set
 // LP_NUM_THREADS=0 unless the user set it, so that rendering stays on the
 // executor's threads (one layer of parallelism per core).

@@ -8,9 +8,17 @@
 #include <cstring>
 #include <memory>
 #include <mutex>
+#include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include <GL/osmesa.h>
+// EGL's headers only (Debian: libegl-dev); libEGL itself is opened at run time, never linked
+#if __has_include(<EGL/egl.h>) && __has_include(<EGL/eglext.h>)
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#define MANYWORLDS_RENDER_EGL 1
+#endif
 
 #include "manyworlds/core/registry.h"
 #include "manyworlds/sim/model.h"
@@ -102,15 +110,172 @@ struct Renderer::Entry {
   }
 };
 
+namespace {
+
+// The backend of this process, chosen once from MANYWORLDS_GL (see render.h).
+enum class Backend { kOsmesa, kEgl };
+
+Backend ChosenBackend() {
+  static const Backend backend = [] {
+    const char* value = std::getenv("MANYWORLDS_GL");
+    const std::string name = value == nullptr ? "" : value;
+    if (name.empty() || name == "osmesa") return Backend::kOsmesa;
+    if (name == "egl") return Backend::kEgl;
+    throw RenderError("MANYWORLDS_GL=" + ShortenForMessage(name) +
+                      " is not a rendering backend; allowed: osmesa (default: software, any "
+                      "machine), egl (a GPU's driver, or Mesa's surfaceless software device)");
+  }();
+  return backend;
+}
+
+// What rendered, for RenderBackendName(); set when the first context is made.
+std::mutex& BackendNameMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+std::string& BackendName() {
+  static std::string name;
+  return name;
+}
+
+#ifdef MANYWORLDS_RENDER_EGL
+// libEGL, opened at run time with its symbols global (MuJoCo 2.2.2's GL loader looks for
+// eglGetProcAddress there), only when MANYWORLDS_GL=egl: a process that renders with OSMesa
+// must not have it loaded (render.h).
+struct Egl {
+  PFNEGLGETPROCADDRESSPROC GetProcAddress = nullptr;
+  PFNEGLGETERRORPROC GetError = nullptr;
+  PFNEGLINITIALIZEPROC Initialize = nullptr;
+  PFNEGLBINDAPIPROC BindAPI = nullptr;
+  PFNEGLCHOOSECONFIGPROC ChooseConfig = nullptr;
+  PFNEGLCREATECONTEXTPROC CreateContext = nullptr;
+  PFNEGLMAKECURRENTPROC MakeCurrent = nullptr;
+  PFNEGLDESTROYCONTEXTPROC DestroyContext = nullptr;
+  PFNEGLQUERYSTRINGPROC QueryString = nullptr;
+  PFNEGLQUERYDEVICESEXTPROC QueryDevices = nullptr;
+  PFNEGLQUERYDEVICESTRINGEXTPROC QueryDeviceString = nullptr;
+  PFNEGLGETPLATFORMDISPLAYEXTPROC GetPlatformDisplay = nullptr;
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLConfig config = nullptr;
+  std::string device;  // which display was taken
+};
+
+std::string EglErrorText(const Egl& egl) {
+  std::ostringstream out;
+  out << "EGL error 0x" << std::hex << (egl.GetError ? egl.GetError() : 0);
+  return out.str();
+}
+
+// The process's EGL display and config: a GPU device if EGL lists one, else Mesa's software
+// device or surfaceless platform. Throws RenderError naming what is missing.
+const Egl& LoadEgl() {
+  static const Egl egl = [] {
+    Egl e;
+    void* library = dlopen("libEGL.so.1", RTLD_NOW | RTLD_GLOBAL);
+    if (library == nullptr) {
+      throw RenderError(std::string("MANYWORLDS_GL=egl: cannot load libEGL.so.1 (") + dlerror() +
+                        "); install a GPU driver's EGL or Debian's libegl1 and libegl-mesa0, or "
+                        "unset MANYWORLDS_GL to render with OSMesa");
+    }
+    auto load = [&](auto& fn, const char* name) {
+      fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(library, name));
+      if (fn == nullptr) throw RenderError(std::string("MANYWORLDS_GL=egl: libEGL lacks ") + name);
+    };
+    load(e.GetProcAddress, "eglGetProcAddress");
+    load(e.GetError, "eglGetError");
+    load(e.Initialize, "eglInitialize");
+    load(e.BindAPI, "eglBindAPI");
+    load(e.ChooseConfig, "eglChooseConfig");
+    load(e.CreateContext, "eglCreateContext");
+    load(e.MakeCurrent, "eglMakeCurrent");
+    load(e.DestroyContext, "eglDestroyContext");
+    load(e.QueryString, "eglQueryString");
+    e.QueryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(e.GetProcAddress("eglQueryDevicesEXT"));
+    e.QueryDeviceString =
+        reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(e.GetProcAddress("eglQueryDeviceStringEXT"));
+    e.GetPlatformDisplay =
+        reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(e.GetProcAddress("eglGetPlatformDisplayEXT"));
+    if (e.GetPlatformDisplay == nullptr) {
+      throw RenderError("MANYWORLDS_GL=egl: this EGL has no eglGetPlatformDisplayEXT (needed for "
+                        "rendering without a window system)");
+    }
+    // hardware devices first (a GPU), then software ones (Mesa's llvmpipe)
+    std::vector<std::pair<EGLDisplay, std::string>> candidates;
+    if (e.QueryDevices != nullptr) {
+      EGLDeviceEXT devices[16];
+      EGLint count = 0;
+      if (e.QueryDevices(16, devices, &count)) {
+        std::vector<std::pair<EGLDisplay, std::string>> software;
+        for (EGLint i = 0; i < count; ++i) {
+          const char* extensions =
+              e.QueryDeviceString ? e.QueryDeviceString(devices[i], EGL_EXTENSIONS) : nullptr;
+          const bool is_software =
+              extensions && std::strstr(extensions, "EGL_MESA_device_software") != nullptr;
+          EGLDisplay d = e.GetPlatformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+          if (d == EGL_NO_DISPLAY) continue;
+          (is_software ? software : candidates)
+              .emplace_back(d, "device " + std::to_string(i) + (is_software ? " (software)" : ""));
+        }
+        candidates.insert(candidates.end(), software.begin(), software.end());
+      }
+    }
+    if (EGLDisplay d = e.GetPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+        d != EGL_NO_DISPLAY) {
+      candidates.emplace_back(d, "Mesa surfaceless platform");
+    }
+    for (const auto& [display, name] : candidates) {
+      EGLint major = 0, minor = 0;
+      if (!e.Initialize(display, &major, &minor)) continue;
+      // no window system: pbuffer configs (the default asks for window ones)
+      const EGLint attributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RED_SIZE, 8,
+                                   EGL_GREEN_SIZE, 8, EGL_BLUE_SIZE, 8, EGL_DEPTH_SIZE, 24,
+                                   EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
+      EGLint configs = 0;
+      if (!e.ChooseConfig(display, attributes, &e.config, 1, &configs) || configs < 1) continue;
+      e.display = display;
+      e.device = name;
+      break;
+    }
+    if (e.display == EGL_NO_DISPLAY) {
+      throw RenderError("MANYWORLDS_GL=egl: no EGL display with an OpenGL config (" +
+                        std::to_string(candidates.size()) +
+                        " tried); unset MANYWORLDS_GL to render with OSMesa");
+    }
+    if (!e.BindAPI(EGL_OPENGL_API)) {
+      throw RenderError("MANYWORLDS_GL=egl: eglBindAPI(EGL_OPENGL_API) failed (" + EglErrorText(e) + ")");
+    }
+    return e;
+  }();
+  return egl;
+}
+
+#endif  // MANYWORLDS_RENDER_EGL
+
+}  // namespace
+
 struct Renderer::Gl {
+  Backend backend = Backend::kOsmesa;
   OSMesaContext context = nullptr;
   std::vector<unsigned char> window;  // OSMesa's default framebuffer (unused)
+#ifdef MANYWORLDS_RENDER_EGL
+  EGLContext egl_context = EGL_NO_CONTEXT;
+#endif
   std::vector<std::unique_ptr<Entry>> entries;
   uint64_t clock = 0;
   mjvOption option = DefaultOption();
   std::vector<uint8_t> row;  // for flipping
 
   void MakeCurrent(int width, int height) {
+#ifdef MANYWORLDS_RENDER_EGL
+    if (backend == Backend::kEgl) {
+      // MuJoCo draws into its own offscreen framebuffer: no surface needed
+      const Egl& egl = LoadEgl();
+      if (!egl.MakeCurrent(egl.display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context)) {
+        throw RenderError("eglMakeCurrent failed (" + EglErrorText(egl) + ")");
+      }
+      return;
+    }
+#endif
     if (!OSMesaMakeCurrent(context, window.data(), GL_UNSIGNED_BYTE, width, height)) {
       throw RenderError("OSMesaMakeCurrent failed for a " + std::to_string(width) + "x" +
                         std::to_string(height) + " buffer");
@@ -123,6 +288,15 @@ struct Renderer::Gl {
   }
 
   ~Gl() {
+#ifdef MANYWORLDS_RENDER_EGL
+    if (egl_context != EGL_NO_CONTEXT) {
+      const Egl& egl = LoadEgl();
+      if (!entries.empty()) egl.MakeCurrent(egl.display, EGL_NO_SURFACE, EGL_NO_SURFACE, egl_context);
+      FreeAll();
+      egl.MakeCurrent(egl.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+      egl.DestroyContext(egl.display, egl_context);
+    }
+#endif
     if (context) {
       // mjr_freeContext deletes GL objects: the context must be current
       if (!entries.empty()) OSMesaMakeCurrent(context, window.data(), GL_UNSIGNED_BYTE, 1, 1);
@@ -140,6 +314,25 @@ namespace {
 std::mutex& GlSetupMutex() {
   static std::mutex mutex;
   return mutex;
+}
+
+// Records what renders, "OSMesa (llvmpipe (LLVM 15.0.6, 256 bits))" or "EGL, device 0 (NVIDIA
+// H100 ...)": the backend and the current context's GL_RENDERER.
+void NoteBackend(const std::string& backend) {
+  const std::lock_guard<std::mutex> lock(BackendNameMutex());
+  if (!BackendName().empty()) return;
+  using GetString = const unsigned char* (*)(unsigned int);
+  GetString get_string = nullptr;
+  if (backend.rfind("EGL", 0) == 0) {
+#ifdef MANYWORLDS_RENDER_EGL
+    get_string = reinterpret_cast<GetString>(LoadEgl().GetProcAddress("glGetString"));
+#endif
+  } else {
+    get_string = reinterpret_cast<GetString>(OSMesaGetProcAddress("glGetString"));
+  }
+  const unsigned char* renderer = get_string ? get_string(GL_RENDERER) : nullptr;
+  BackendName() = backend + " (" +
+                  (renderer ? reinterpret_cast<const char*>(renderer) : "renderer unknown") + ")";
 }
 
 // FNV-1a over a byte range, folded into `hash`.
@@ -200,6 +393,28 @@ Renderer::Renderer(int width, int height, RenderQuality quality)
   }
   InstallMujocoHandlers();
   gl_ = std::make_unique<Gl>();
+  gl_->backend = ChosenBackend();
+  if (gl_->backend == Backend::kEgl) {
+#ifndef MANYWORLDS_RENDER_EGL
+    throw RenderError("MANYWORLDS_GL=egl: this build has no EGL support (EGL's headers, Debian's "
+                      "libegl-dev, were missing when it was built); unset MANYWORLDS_GL");
+#else
+    const Egl& egl = LoadEgl();
+    const EGLint attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 1, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                 EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT, EGL_NONE};
+    {
+      const std::lock_guard<std::mutex> lock(GlSetupMutex());
+      gl_->egl_context = egl.CreateContext(egl.display, egl.config, EGL_NO_CONTEXT, attributes);
+    }
+    if (gl_->egl_context == EGL_NO_CONTEXT) {
+      throw RenderError("MANYWORLDS_GL=egl: could not create an OpenGL context (" +
+                        EglErrorText(egl) + ")");
+    }
+    gl_->MakeCurrent(width, height);
+    NoteBackend("EGL, " + egl.device);
+    return;
+#endif
+  }
   {
     const std::lock_guard<std::mutex> lock(GlSetupMutex());
     // RGBA colour, 24-bit depth, 8-bit stencil, compatibility profile (MuJoCo
@@ -212,6 +427,8 @@ Renderer::Renderer(int width, int height, RenderQuality quality)
         "(Debian: apt-get install libosmesa6)");
   }
   gl_->window.resize(static_cast<size_t>(width) * height * 4);
+  gl_->MakeCurrent(width, height);
+  NoteBackend("OSMesa");
 }
 
 Renderer::~Renderer() = default;
@@ -369,6 +586,10 @@ Renderer& ThreadRenderer(int width, int height, RenderQuality quality) {
   return *renderers.back();
 }
 
-std::string RenderBackendName() { return "OSMesa (Mesa llvmpipe)"; }
+std::string RenderBackendName() {
+  const std::lock_guard<std::mutex> lock(BackendNameMutex());
+  if (!BackendName().empty()) return BackendName();
+  return ChosenBackend() == Backend::kEgl ? "EGL" : "OSMesa";
+}
 
 }  // namespace manyworlds::sim

@@ -38,6 +38,14 @@
 // Mesa itself crashes when GALLIUM_DRIVER names anything but llvmpipe or
 // softpipe, so the constructor refuses other values.
 //
+// Backends, chosen once per process by MANYWORLDS_GL: `osmesa` (default;
+// Mesa's software rasteriser, any machine) or `egl` (libEGL opened at run
+// time with global symbols, so that MuJoCo's loader takes EGL's entry points;
+// a GPU's EGL device first, else Mesa's software device or surfaceless
+// platform; contexts without a surface, MuJoCo draws into its own offscreen
+// framebuffer). One process cannot mix them (see above). On Mesa's software
+// device EGL renders the same bytes as OSMesa (tests/cli/cli_test.cc).
+//
 // Not thread-safe: one renderer per thread (the OSMesa context is made
 // current on the calling thread). Several renderers may coexist.
 //
@@ -151,8 +159,9 @@ class Renderer {
 // ends. Not to be kept past the thread's end.
 Renderer& ThreadRenderer(int width, int height, RenderQuality quality);
 
-// What renders offscreen in this build and process: "OSMesa (Mesa llvmpipe)"
-// or "none (built without OSMesa)". For logs and error messages.
+// What renders offscreen in this process: the backend and, once a renderer
+// was made, its OpenGL renderer string, e.g. "OSMesa (llvmpipe (LLVM 15.0.6,
+// 256 bits))" or "EGL, device 0 (NVIDIA H100 ...)". For logs.
 std::string RenderBackendName();
 
 }  // namespace manyworlds::sim
