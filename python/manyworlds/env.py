@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import gymnasium as gym
@@ -10,6 +11,8 @@ import numpy as np
 from manyworlds import _core, _spaces
 
 ObsType = Union[Dict[str, np.ndarray], np.ndarray]
+
+_log = logging.getLogger("manyworlds")
 
 # reset(options=...) keys this env understands.
 RESET_OPTIONS = ("task_seed", "task_state", "sample_task")
@@ -104,8 +107,8 @@ class ManyworldsEnv(gym.Env):
         pixel_desc = self._core.pixel_space
         self.pixels = _spaces.has_pixels(pixel_desc)
         if self.pixels:
-            gym.logger.info(f"env '{env_id}': pixel observations {tuple(pixel_desc['shape'])} rendered with "
-                            f"{_core.render_backend}")
+            _log.info("env '%s': pixel observations %s rendered with %s", env_id, tuple(pixel_desc["shape"]),
+                      _core.render_backend)
         self.observation_space = _spaces.observation_space(
             self._core.env_obs_space, self._core.task_obs_space, self.flat_obs, pixel_desc
         )
