@@ -12,26 +12,16 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include "manyworlds/dmc/dmc_env.h"
+#include "tests/dmc/recording.h"
 
 namespace manyworlds::dmc {
 namespace {
-
-nlohmann::json LoadRecording() {
-  const char* source = std::getenv("MANYWORLDS_SOURCE_DIR");
-  EXPECT_NE(source, nullptr) << "MANYWORLDS_SOURCE_DIR is set by ctest";
-  if (source == nullptr) return {};
-  std::ifstream in(std::string(source) + "/tests/dmc/data/dmc_rewards.json");
-  EXPECT_TRUE(in.good()) << "tests/dmc/data/dmc_rewards.json is missing";
-  if (!in.good()) return {};
-  return nlohmann::json::parse(in);
-}
 
 struct Replay {
   std::vector<double> ours, theirs;
@@ -112,7 +102,7 @@ Replay ReplayInOurEnv(DmcTask task, const nlohmann::json& run, int period) {
 }
 
 TEST(DmcPhysicsReplayTest, OurModelsFollowDmControlsFromItsInitialState) {
-  const nlohmann::json recording = LoadRecording();
+  const nlohmann::json recording = LoadRecording("dmc_rewards.json");
   ASSERT_TRUE(recording.contains("tasks"));
   const std::pair<const char*, DmcTask> tasks[] = {{"finger-spin", DmcTask::kFingerSpin},
                                                    {"cheetah-run", DmcTask::kCheetahRun},

@@ -8,25 +8,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "manyworlds/dmc/rewards.h"
+#include "tests/dmc/recording.h"
 
 namespace manyworlds::dmc {
 namespace {
-
-nlohmann::json LoadRecording() {
-  const char* source = std::getenv("MANYWORLDS_SOURCE_DIR");
-  EXPECT_NE(source, nullptr) << "MANYWORLDS_SOURCE_DIR is set by ctest";
-  if (source == nullptr) return {};
-  std::ifstream in(std::string(source) + "/tests/dmc/data/dmc_rewards.json");
-  EXPECT_TRUE(in.good()) << "tests/dmc/data/dmc_rewards.json is missing";
-  if (!in.good()) return {};
-  return nlohmann::json::parse(in);
-}
 
 // `q` in the order of the recording's "names", which are rewards.h's arguments.
 double OurReward(const std::string& task, const nlohmann::json& q) {
@@ -36,7 +26,7 @@ double OurReward(const std::string& task, const nlohmann::json& q) {
 }
 
 TEST(DmcRewardAgreementTest, OurRewardsEqualDmControlsOnItsRecordedQuantities) {
-  const nlohmann::json recording = LoadRecording();
+  const nlohmann::json recording = LoadRecording("dmc_rewards.json");
   ASSERT_TRUE(recording.contains("tasks"));
   for (const std::string task : {"finger-spin", "cheetah-run", "walker-walk"}) {
     SCOPED_TRACE(task);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "manyworlds/core/error.h"
+#include "tests/dmc/recording.h"
 
 namespace manyworlds::dmc {
 namespace {
@@ -92,11 +93,8 @@ TEST(ToleranceTest, TheTasksLinearShapesAreClippedRamps) {
 // one-sided bounds, point targets, margin 0; values at the margin 0 to 0.9) at 47 points by
 // scripts/record_dmc_tolerance.py (dm-control 1.0.50 from PyPI).
 TEST(ToleranceTest, EqualsDmControlsOwnFunction) {
-  const char* source = std::getenv("MANYWORLDS_SOURCE_DIR");
-  ASSERT_NE(source, nullptr) << "MANYWORLDS_SOURCE_DIR is set by ctest";
-  std::ifstream in(std::string(source) + "/tests/dmc/data/tolerance_dm_control.json");
-  ASSERT_TRUE(in) << "the recording is missing";
-  const nlohmann::json recording = nlohmann::json::parse(in);
+  const nlohmann::json recording = LoadRecording("tolerance_dm_control.json");
+  ASSERT_TRUE(recording.contains("x"));
   const std::vector<double> xs = recording["x"].get<std::vector<double>>();
   auto bound = [](const nlohmann::json& b) {
     if (b.is_string()) return b.get<std::string>() == "inf" ? kInf : -kInf;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/hash.h"
 
 namespace manyworlds {
 namespace {
@@ -105,11 +106,7 @@ void NoteObs(const EnvSpec& spec, int64_t step, const Observation& obs, Trajecto
 // floats of 22 bits each (the frames themselves would make trajectories huge).
 void AppendPixelDigest(const std::vector<uint8_t>& pixels, std::vector<float>& values) {
   if (pixels.empty()) return;
-  uint64_t h = 14695981039346656037ULL;
-  for (uint8_t byte : pixels) {
-    h ^= byte;
-    h *= 1099511628211ULL;
-  }
+  const uint64_t h = Fnv1a(pixels.data(), pixels.size());
   for (int k = 0; k < 3; ++k) values.push_back(static_cast<float>((h >> (22 * k)) & 0x3fffff));
 }
 

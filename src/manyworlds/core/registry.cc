@@ -338,9 +338,14 @@ std::unique_ptr<Env> Registry::Make(std::string_view id, const nlohmann::json& o
                                                        resolved.String(kCameraOption),
                                                        resolved.String(kPixelQualityOption) ==
                                                            "full"});
-  } else if (!resolved.String(kCameraOption).empty() ||
-             resolved.Int(kPixelWidthOption) != 84 || resolved.Int(kPixelHeightOption) != 84 ||
-             resolved.String(kPixelQualityOption) != "fast") {
+  } else if (std::any_of(registration.options.begin(), registration.options.end(),
+                         [&](const OptionSpec& o) {
+                           // a pixel setting away from its default, without pixels
+                           return (o.name == kCameraOption || o.name == kPixelWidthOption ||
+                                   o.name == kPixelHeightOption ||
+                                   o.name == kPixelQualityOption) &&
+                                  resolved.values()[o.name] != o.default_value;
+                         })) {
     throw ConfigError("env '" + registration.id +
                       "': options camera, pixel_width, pixel_height and pixel_quality apply to "
                       "pixel observations; add obs=pixels (or leave them out)");

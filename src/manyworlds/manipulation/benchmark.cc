@@ -5,6 +5,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "manyworlds/core/hash.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/core/wrapper.h"
@@ -16,14 +17,7 @@ namespace {
 
 // FNV-1a: a task's variations depend on its name, not on its position in a
 // benchmark, and the hash is the same on every platform.
-uint64_t NameHash(std::string_view name) {
-  uint64_t hash = 14695981039346656037ull;
-  for (char c : name) {
-    hash ^= static_cast<unsigned char>(c);
-    hash *= 1099511628211ull;
-  }
-  return hash;
-}
+uint64_t NameHash(std::string_view name) { return Fnv1a(name.data(), name.size()); }
 
 SawyerOptions MemberOptions(const BenchmarkConfig& config) {
   SawyerOptions options;

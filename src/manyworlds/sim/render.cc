@@ -20,6 +20,7 @@
 #define MANYWORLDS_RENDER_EGL 1
 #endif
 
+#include "manyworlds/core/hash.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/sim/model.h"
 #include "manyworlds/sim/mujoco_error.h"
@@ -335,43 +336,34 @@ void NoteBackend(const std::string& backend) {
                   (renderer ? reinterpret_cast<const char*>(renderer) : "renderer unknown") + ")";
 }
 
-// FNV-1a over a byte range, folded into `hash`.
-uint64_t HashBytes(uint64_t hash, const void* data, size_t bytes) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (size_t i = 0; i < bytes; ++i) {
-    hash ^= p[i];
-    hash *= 1099511628211ULL;
-  }
-  return hash;
-}
 
 // A model recognised by its address and sizes (the unkeyed Render).
 uint64_t AddressKey(const mjModel* m) {
   const auto address = reinterpret_cast<uintptr_t>(m);
   const std::array<int, 7> sizes = ModelSizes(m);
-  uint64_t hash = HashBytes(14695981039346656037ULL, &address, sizeof address);
-  return HashBytes(hash, sizes.data(), sizeof sizes) | 1;  // odd: never a content key
+  uint64_t hash = Fnv1a(&address, sizeof address);
+  return Fnv1a(sizes.data(), sizeof sizes, hash) | 1;  // odd: never a content key
 }
 
 }  // namespace
 
 uint64_t ModelRenderKey(const mjModel* m) {
-  uint64_t h = 14695981039346656037ULL;
+  uint64_t h = kFnv1aOffset;
   // every size of the model: the int fields from nq to nbuffer
-  h = HashBytes(h, &m->nq, reinterpret_cast<const char*>(&m->opt) -
-                               reinterpret_cast<const char*>(&m->nq));
-  h = HashBytes(h, &m->vis, sizeof m->vis);
-  h = HashBytes(h, m->mesh_vert, sizeof(float) * 3 * m->nmeshvert);
-  h = HashBytes(h, m->mesh_normal, sizeof(float) * 3 * m->nmeshvert);
-  h = HashBytes(h, m->mesh_texcoord, sizeof(float) * 2 * m->nmeshtexvert);
-  h = HashBytes(h, m->mesh_face, sizeof(int) * 3 * m->nmeshface);
-  h = HashBytes(h, m->skin_vert, sizeof(float) * 3 * m->nskinvert);
-  h = HashBytes(h, m->hfield_size, sizeof(mjtNum) * 4 * m->nhfield);
-  h = HashBytes(h, m->hfield_data, sizeof(float) * m->nhfielddata);
-  h = HashBytes(h, m->tex_type, sizeof(int) * m->ntex);
-  h = HashBytes(h, m->tex_height, sizeof(int) * m->ntex);
-  h = HashBytes(h, m->tex_width, sizeof(int) * m->ntex);
-  h = HashBytes(h, m->tex_rgb, m->ntexdata);
+  h = Fnv1a(&m->nq, reinterpret_cast<const char*>(&m->opt) - reinterpret_cast<const char*>(&m->nq),
+            h);
+  h = Fnv1a(&m->vis, sizeof m->vis, h);
+  h = Fnv1a(m->mesh_vert, sizeof(float) * 3 * m->nmeshvert, h);
+  h = Fnv1a(m->mesh_normal, sizeof(float) * 3 * m->nmeshvert, h);
+  h = Fnv1a(m->mesh_texcoord, sizeof(float) * 2 * m->nmeshtexvert, h);
+  h = Fnv1a(m->mesh_face, sizeof(int) * 3 * m->nmeshface, h);
+  h = Fnv1a(m->skin_vert, sizeof(float) * 3 * m->nskinvert, h);
+  h = Fnv1a(m->hfield_size, sizeof(mjtNum) * 4 * m->nhfield, h);
+  h = Fnv1a(m->hfield_data, sizeof(float) * m->nhfielddata, h);
+  h = Fnv1a(m->tex_type, sizeof(int) * m->ntex, h);
+  h = Fnv1a(m->tex_height, sizeof(int) * m->ntex, h);
+  h = Fnv1a(m->tex_width, sizeof(int) * m->ntex, h);
+  h = Fnv1a(m->tex_rgb, m->ntexdata, h);
   return h & ~uint64_t{1};  // even: never an address key
 }
 
