@@ -46,6 +46,30 @@ SquashedSample SquashedGaussianFromNoise(const torch::Tensor& mean, const torch:
 GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,
                                        c10::optional<at::Generator> generator)
     : torch::nn::Module("GaussianPolicy"), options_(options) {
+  CheckOptions();
+  MlpOptions trunk;
+  trunk.input_dim = options.obs_dim;
+  trunk.output_dim = 2 * options.action_dim * options.num_heads;
+  trunk.hidden_dim = options.hidden_dim;
+  trunk.num_layers = options.num_layers;
+  trunk_ = register_module("trunk", std::make_shared<MlpImpl>(trunk, generator));
+}
+
+GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,
+                                       const TrunkFactory& make_trunk, int64_t trunk_output_dim,
+                                       c10::optional<at::Generator> generator)
+    : torch::nn::Module("GaussianPolicy"), options_(options) {
+  CheckOptions();
+  if (trunk_output_dim != 2 * options.action_dim * options.num_heads) {
+    throw ConfigError("GaussianPolicy: the trunk has " + std::to_string(trunk_output_dim) +
+                      " outputs, the policy needs 2 * action_dim * num_heads = " +
+                      std::to_string(2 * options.action_dim * options.num_heads));
+  }
+  trunk_ = register_module("trunk", make_trunk(generator));
+}
+
+void GaussianPolicyImpl::CheckOptions() const {
+  const GaussianPolicyOptions& options = options_;
   if (options.action_dim <= 0) {
     throw ConfigError("GaussianPolicy: action_dim must be > 0, got " +
                       std::to_string(options.action_dim));
@@ -57,18 +81,12 @@ GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,
   if (!(options.log_std_min < options.log_std_max)) {
     throw ConfigError("GaussianPolicy: log_std_min must be < log_std_max");
   }
-  MlpOptions trunk;
-  trunk.input_dim = options.obs_dim;
-  trunk.output_dim = 2 * options.action_dim * options.num_heads;
-  trunk.hidden_dim = options.hidden_dim;
-  trunk.num_layers = options.num_layers;
-  trunk_ = register_module("trunk", Mlp(trunk, generator));
 }
 
 PolicyOutput GaussianPolicyImpl::Forward(const torch::Tensor& obs, const torch::Tensor& head,
                                          at::ArrayRef<torch::Tensor> params) const {
   const int64_t a = options_.action_dim;
-  torch::Tensor out = trunk_->Forward(obs, params);
+  torch::Tensor out = trunk_->Forward(obs, head, params);
   if (options_.num_heads > 1) {
     if (!head.defined()) throw Error("GaussianPolicy: a multi-head forward needs head indices");
     out = SelectHeads(out, head, 2 * a);

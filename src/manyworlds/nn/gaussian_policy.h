@@ -12,6 +12,10 @@
 // With num_heads > 1 the last linear map holds one output head per task
 // (MTRL's multi-head policy): the trunk computes all heads as one product,
 // (B, num_heads * 2A), and each row keeps the head named by `head` (B).
+//
+// The trunk can also be any TrunkImpl (trunk.h) with 2A * num_heads
+// outputs, e.g. a Soft Modularization, PaCo or MOORE network; `head` is then
+// the task index it routes by.
 #ifndef MANYWORLDS_NN_GAUSSIAN_POLICY_H_
 #define MANYWORLDS_NN_GAUSSIAN_POLICY_H_
 
@@ -20,6 +24,7 @@
 #include <torch/torch.h>
 
 #include "manyworlds/nn/mlp.h"
+#include "manyworlds/nn/trunk.h"
 
 namespace manyworlds::nn {
 
@@ -67,6 +72,10 @@ class GaussianPolicyImpl : public torch::nn::Module {
   // Throws ConfigError on bad dims or log_std_min >= log_std_max.
   explicit GaussianPolicyImpl(const GaussianPolicyOptions& options,
                               c10::optional<at::Generator> generator = c10::nullopt);
+  // With a trunk from make_trunk (options.hidden_dim and num_layers unused);
+  // ConfigError unless its output is 2 * action_dim * num_heads wide.
+  GaussianPolicyImpl(const GaussianPolicyOptions& options, const TrunkFactory& make_trunk,
+                     int64_t trunk_output_dim, c10::optional<at::Generator> generator);
 
   // obs: (B, obs_dim); head: (B) int64 in [0, num_heads), required when
   // num_heads > 1 and ignored (may be undefined) otherwise.
@@ -81,13 +90,13 @@ class GaussianPolicyImpl : public torch::nn::Module {
   torch::Tensor MeanAction(const torch::Tensor& obs, const torch::Tensor& head = {});
 
   // The network holding all parameters (flat buffer, functional forward).
-  Mlp& trunk() { return trunk_; }
-  const Mlp& trunk() const { return trunk_; }
+  const std::shared_ptr<TrunkImpl>& trunk() const { return trunk_; }
   const GaussianPolicyOptions& options() const { return options_; }
 
  private:
   GaussianPolicyOptions options_;
-  Mlp trunk_{nullptr};
+  void CheckOptions() const;
+  std::shared_ptr<TrunkImpl> trunk_;
 };
 TORCH_MODULE(GaussianPolicy);
 

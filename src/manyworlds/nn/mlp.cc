@@ -147,7 +147,7 @@ torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, i
 template <bool kEnsemble>
 BasicMlpImpl<kEnsemble>::BasicMlpImpl(const MlpOptions& options,
                                       c10::optional<at::Generator> generator)
-    : FlatModule(kEnsemble ? "EnsembleMlp" : "Mlp"), options_(options) {
+    : TrunkImpl(kEnsemble ? "EnsembleMlp" : "Mlp"), options_(options) {
   CheckOptions(options_, kEnsemble ? "EnsembleMlp" : "Mlp");
   if (!kEnsemble) options_.ensemble_size = 1;
   std::vector<ParamSpec> specs;

@@ -24,6 +24,7 @@
 #include <torch/torch.h>
 
 #include "manyworlds/nn/flat_module.h"
+#include "manyworlds/nn/trunk.h"
 
 namespace manyworlds::nn {
 
@@ -76,7 +77,7 @@ torch::Tensor SelectHeads(const torch::Tensor& out, const torch::Tensor& head, i
 // Mlp (kEnsemble false) and EnsembleMlp (true) share everything but the
 // layout: one flat MLP, or ensemble_size of them stacked.
 template <bool kEnsemble>
-class BasicMlpImpl : public FlatModule {
+class BasicMlpImpl : public TrunkImpl {
  public:
   // Throws ConfigError on non-positive dims or negative num_layers.
   explicit BasicMlpImpl(const MlpOptions& options,
@@ -90,6 +91,11 @@ class BasicMlpImpl : public FlatModule {
   // Same network with explicit parameters (layout order of params());
   // Error if their number is wrong.
   torch::Tensor Forward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> params) const;
+  // The trunk form: an MLP ignores the task.
+  torch::Tensor Forward(const torch::Tensor& x, const torch::Tensor& /*task*/,
+                        at::ArrayRef<torch::Tensor> params) const override {
+    return Forward(x, params);
+  }
 
   const MlpOptions& options() const { return options_; }
 

@@ -30,8 +30,23 @@ TwinCriticImpl::TwinCriticImpl(const TwinCriticOptions& options,
   mlp.hidden_dim = options.hidden_dim;
   mlp.num_layers = options.num_layers;
   mlp.ensemble_size = 2;
-  online_ = register_module("online", EnsembleMlp(mlp, generator));
-  target_ = register_module("target", EnsembleMlp(mlp, generator));
+  Init([&mlp](c10::optional<at::Generator> g) { return std::make_shared<EnsembleMlpImpl>(mlp, g); },
+       generator);
+}
+
+TwinCriticImpl::TwinCriticImpl(const TwinCriticOptions& options, const TrunkFactory& make_trunk,
+                               c10::optional<at::Generator> generator)
+    : torch::nn::Module("TwinCritic"), options_(options) {
+  if (options.num_heads <= 0) {
+    throw ConfigError("TwinCritic: num_heads must be > 0, got " +
+                      std::to_string(options.num_heads));
+  }
+  Init(make_trunk, generator);
+}
+
+void TwinCriticImpl::Init(const TrunkFactory& make_trunk, c10::optional<at::Generator> generator) {
+  online_ = register_module("online", make_trunk(generator));
+  target_ = register_module("target", make_trunk(generator));
   target_->CopyFrom(*online_);
   // The target is never trained: no gradients, and the optimizer skips it.
   for (const torch::Tensor& p : target_->params()) p.requires_grad_(false);
@@ -40,14 +55,15 @@ TwinCriticImpl::TwinCriticImpl(const TwinCriticOptions& options,
 torch::Tensor TwinCriticImpl::Q(const torch::Tensor& obs, const torch::Tensor& action,
                                 const torch::Tensor& head,
                                 at::ArrayRef<torch::Tensor> params) const {
-  return Heads(online_->Forward(torch::cat({obs, action}, -1), params), head,
+  return Heads(online_->Forward(torch::cat({obs, action}, -1), head, params), head,
                options_.num_heads);
 }
 
 torch::Tensor TwinCriticImpl::TargetQ(const torch::Tensor& obs, const torch::Tensor& action,
                                       const torch::Tensor& head) const {
-  return Heads(target_->Forward(torch::cat({obs, action}, -1), target_->detached_params()),
-               head, options_.num_heads);
+  return Heads(
+      target_->Forward(torch::cat({obs, action}, -1), head, target_->detached_params()), head,
+      options_.num_heads);
 }
 
 void TwinCriticImpl::UpdateTarget(double tau) {

@@ -3,6 +3,10 @@
 // With num_heads > 1 each critic's last linear map holds one Q head per task
 // (MTRL's multi-head critic), all heads computed as one product and the head
 // of each row chosen by `head` (B).
+//
+// The pair can also be any 2-member TrunkImpl (trunk.h) over concat(obs,
+// action) with num_heads outputs per member, e.g. a Soft Modularization, PaCo
+// or MOORE ensemble; `head` is then the task index it routes by.
 #ifndef MANYWORLDS_NN_TWIN_CRITIC_H_
 #define MANYWORLDS_NN_TWIN_CRITIC_H_
 
@@ -11,6 +15,7 @@
 #include <torch/torch.h>
 
 #include "manyworlds/nn/mlp.h"
+#include "manyworlds/nn/trunk.h"
 
 namespace manyworlds::nn {
 
@@ -27,6 +32,10 @@ class TwinCriticImpl : public torch::nn::Module {
   // The target starts as a copy of the online critics.
   explicit TwinCriticImpl(const TwinCriticOptions& options,
                           c10::optional<at::Generator> generator = c10::nullopt);
+  // Online and target from make_trunk (hidden_dim, num_layers unused): each
+  // must map (B, obs_dim + action_dim) to (2, B, num_heads).
+  TwinCriticImpl(const TwinCriticOptions& options, const TrunkFactory& make_trunk,
+                 c10::optional<at::Generator> generator);
 
   // obs (B, obs_dim), action (B, action_dim) -> (2, B), both online critics.
   // head: (B) int64 in [0, num_heads), required when num_heads > 1 and
@@ -45,16 +54,15 @@ class TwinCriticImpl : public torch::nn::Module {
   // target <- (1 - tau) target + tau online, one loop over the flat buffers.
   void UpdateTarget(double tau);
 
-  EnsembleMlp& online() { return online_; }
-  const EnsembleMlp& online() const { return online_; }
-  EnsembleMlp& target() { return target_; }
-  const EnsembleMlp& target() const { return target_; }
+  const std::shared_ptr<TrunkImpl>& online() const { return online_; }
+  const std::shared_ptr<TrunkImpl>& target() const { return target_; }
   const TwinCriticOptions& options() const { return options_; }
 
  private:
   TwinCriticOptions options_;
-  EnsembleMlp online_{nullptr};
-  EnsembleMlp target_{nullptr};
+  void Init(const TrunkFactory& make_trunk, c10::optional<at::Generator> generator);
+  std::shared_ptr<TrunkImpl> online_;
+  std::shared_ptr<TrunkImpl> target_;
 };
 TORCH_MODULE(TwinCritic);
 
