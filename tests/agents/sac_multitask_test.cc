@@ -10,12 +10,13 @@
 
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 namespace {
 
-const std::vector<std::string> kArchitectures = {"mlp", "multihead", "task_encoder", "moe"};
+const std::vector<std::string>& kArchitectures = SacArchitectures();
 
 SacConfig Tiny(const std::string& architecture, bool pcgrad = false) {
   SacConfig c;
@@ -24,6 +25,9 @@ SacConfig Tiny(const std::string& architecture, bool pcgrad = false) {
   c.task_embedding_dim = 6;
   c.encoder_dim = 5;
   c.num_experts = 3;
+  c.num_param_sets = 3;
+  c.module_hidden = 8;
+  c.routing_hidden = 8;
   c.architecture = architecture;
   c.pcgrad = pcgrad;
   c.seed = 1;
@@ -135,6 +139,81 @@ TEST(SacMultiTaskTest, NetworkInputPerArchitecture) {
   EXPECT_TRUE(torch::equal(moe.encoder()->flat(), moe.encoder_target()->flat()));
 }
 
+TEST(SacMultiTaskTest, TaskTrunksSeeTheBareObservationAndActPerTask) {
+  for (const char* arch : {"soft_modular", "paco", "moore"}) {
+    SacLearner sac(Tiny(arch), 3, 2, 3);
+    EXPECT_EQ(sac.input_dim(), 3) << arch;
+    EXPECT_TRUE(sac.actor()->trunk()->uses_task()) << arch;
+    EXPECT_TRUE(sac.critic()->online()->uses_task()) << arch;
+    EXPECT_TRUE(sac.task_encoder().is_empty()) << arch;
+    const torch::Tensor obs = torch::randn({1, 3}).expand({3, 3});
+    const torch::Tensor act = sac.Act(obs, torch::arange(3, torch::kInt64), true);
+    // Soft Modularization starts with near-uniform routing (logits drawn
+    // from U(+-3e-3)): its tasks differ, but only slightly.
+    EXPECT_FALSE(torch::equal(act[0], act[1])) << arch;
+  }
+  EXPECT_EQ(kArchitectures.size(), 7u);
+}
+
+TEST(SacMultiTaskTest, TaskReweightWeighsTasksBySoftmaxOfMinusLogAlpha) {
+  SacConfig c = Tiny("soft_modular");
+  c.task_reweight = true;
+  EXPECT_THROW(c.Validate(), ConfigError);  // needs per-task temperatures
+  c.disentangled_alpha = true;
+  SacConfig plain = c;
+  plain.task_reweight = false;
+  // Equal temperatures: every weight is T / T = 1, the update is the plain one.
+  SacLearner a(c, 4, 2, 3), b(plain, 4, 2, 3);
+  const Batch batch = RandomBatch(24, 4, 2, 3, 5);
+  const Metrics ma = a.Update(batch), mb = b.Update(batch);
+  EXPECT_NEAR(ma.Get("critic_loss"), mb.Get("critic_loss"), 1e-5 * std::abs(mb.Get("critic_loss")));
+  // After temperatures part, the weighted loss differs from the plain one on
+  // the same networks.
+  for (int i = 0; i < 30; ++i) {
+    const Batch more = RandomBatch(24, 4, 2, 3, 10 + i);
+    a.Update(more);
+    b.Update(more);
+  }
+  const torch::Tensor alpha = a.Alpha();
+  EXPECT_GT((alpha.max() - alpha.min()).item<float>(), 1e-4f);
+  EXPECT_FALSE(torch::allclose(a.critic()->online()->flat(), b.critic()->online()->flat()));
+}
+
+TEST(SacMultiTaskTest, PacoMasksAndResetsATaskWhoseLossExplodes) {
+  SacConfig c = Tiny("paco");
+  // Above the untrained critics' own loss (PaCo's task weights start
+  // unnormalised, so its Q values start at tens), far below task 2's.
+  c.paco_reset_threshold = 2e4;
+  SacLearner sac(c, 4, 2, 3);
+  Batch batch = RandomBatch(30, 4, 2, 3, 6);
+  batch.task_index = torch::arange(30, torch::kInt64) % 3;
+  // Task 2's rewards are huge: its TD error is far above the threshold.
+  batch.reward = torch::where(batch.task_index == 2, torch::full({30}, 1000.0f), batch.reward);
+  const Metrics m = sac.Update(batch);
+  EXPECT_EQ(m.Get("paco_resets"), 1.0);
+  // The masked update: the critic loss counts the other two tasks only.
+  EXPECT_LT(m.Get("critic_loss"), 2e4);
+  for (nn::TrunkImpl* trunk : {sac.actor()->trunk().get(), sac.critic()->online().get()}) {
+    const torch::Tensor w = dynamic_cast<nn::PacoTrunkImpl&>(*trunk).task_weights();
+    for (int64_t e = 0; e < w.size(0); ++e) {
+      // Row 2 is a convex combination of rows 0 and 1: solve for it.
+      const torch::Tensor basis = w[e].narrow(0, 0, 2).t();  // (K, 2)
+      const torch::Tensor coef =
+          std::get<0>(torch::linalg_lstsq(basis, w[e][2].unsqueeze(1))).squeeze(1);
+      EXPECT_TRUE(torch::allclose(torch::matmul(basis, coef), w[e][2], 1e-4, 1e-5));
+      EXPECT_NEAR(coef.sum().item<float>(), 1.0f, 1e-3f);
+      EXPECT_GE(coef.min().item<float>(), -1e-3f);
+    }
+  }
+  // Without the spike nothing is reset.
+  SacLearner calm(c, 4, 2, 3);
+  batch.reward = torch::zeros({30});
+  EXPECT_EQ(calm.Update(batch).Get("paco_resets"), 0.0);
+  c.paco_reset_threshold = 0.0;
+  SacLearner off(c, 4, 2, 3);
+  EXPECT_FALSE(off.Update(batch).Contains("paco_resets"));
+}
+
 TEST(SacMultiTaskTest, ActTakesTaskIndices) {
   for (const std::string& arch : kArchitectures) {
     SacLearner sac(Tiny(arch), 3, 2, 3);
@@ -152,7 +231,9 @@ TEST(SacMultiTaskTest, ActTakesTaskIndices) {
     }
     const torch::Tensor same = obs[0].expand({3, 3});
     torch::Tensor per_task = sac.Act(same, torch::arange(3, torch::kInt64), true);
-    EXPECT_FALSE(torch::allclose(per_task[0], per_task[1])) << arch;
+    EXPECT_FALSE(arch == "soft_modular" ? torch::equal(per_task[0], per_task[1])
+                                        : torch::allclose(per_task[0], per_task[1]))
+        << arch;
     EXPECT_THROW(sac.Act(obs, torch::full({5}, 3, torch::kInt64), true), Error) << arch;
     EXPECT_THROW(sac.Act(obs, task.to(torch::kInt32), true), Error) << arch;
     EXPECT_THROW(sac.Act(obs, true), Error) << arch;  // single-task form
@@ -228,7 +309,7 @@ TEST(SacMultiTaskTest, PcGradCombinesPerTaskCriticGradients) {
   const torch::Tensor y = b.CriticTarget(batch);
   const torch::Tensor q = b.critic()->forward(b.NetworkInput(batch.obs, batch.task_index),
                                               batch.action);
-  nn::EnsembleMlpImpl& online = *b.critic()->online();
+  auto& online = dynamic_cast<nn::EnsembleMlpImpl&>(*b.critic()->online());
   std::vector<torch::Tensor> rows;
   for (int64_t t = 0; t < 3; ++t) {
     const torch::Tensor mask = (batch.task_index == t).to(torch::kFloat32);
@@ -310,11 +391,11 @@ constexpr float kTargets[3] = {-0.5f, 0.2f, 0.7f};
 
 // Trains `sac` on uniform behaviour actions; with `hide_task` the learner
 // sees task 0 for every sample (but rewards still follow the true task).
-void TrainBandit(SacLearner& sac, bool hide_task) {
+void TrainBandit(SacLearner& sac, bool hide_task, int steps = 800) {
   at::Generator gen = at::detail::createCPUGenerator(123);
   const torch::Tensor targets = torch::tensor({kTargets[0], kTargets[1], kTargets[2]});
   const int64_t b = 48;
-  for (int step = 0; step < 800; ++step) {
+  for (int step = 0; step < steps; ++step) {
     Batch batch;
     const torch::Tensor task = torch::randint(3, {b}, gen, torch::kInt64);
     batch.task_index = hide_task ? torch::zeros({b}, torch::kInt64) : task;
@@ -338,13 +419,17 @@ SacConfig BanditConfig(const std::string& architecture, bool pcgrad = false) {
   c.pcgrad = pcgrad;
   c.task_embedding_dim = 8;
   c.encoder_dim = 8;
+  c.module_hidden = 32;
+  c.routing_hidden = 32;
   c.seed = 4;
   return c;
 }
 
-void ExpectSolvesBandit(const std::string& arch, bool pcgrad) {
+// steps: the routed and composed architectures start (nearly) task-blind
+// and need longer to tell the tasks apart.
+void ExpectSolvesBandit(const std::string& arch, bool pcgrad, int steps = 800) {
   SacLearner sac(BanditConfig(arch, pcgrad), /*obs_dim=*/1, /*action_dim=*/1, /*num_tasks=*/3);
-  TrainBandit(sac, /*hide_task=*/false);
+  TrainBandit(sac, /*hide_task=*/false, steps);
   const torch::Tensor act =
       sac.Act(torch::ones({3, 1}), torch::arange(3, torch::kInt64), /*deterministic=*/true);
   for (int t = 0; t < 3; ++t) {
@@ -359,6 +444,20 @@ TEST(SacBanditTest, TaskEncoderSolvesTheThreeTaskBandit) {
 }
 TEST(SacBanditTest, MoeSolvesTheThreeTaskBandit) { ExpectSolvesBandit("moe", false); }
 TEST(SacBanditTest, PcGradSolvesTheThreeTaskBandit) { ExpectSolvesBandit("mlp", true); }
+// With the bandit's constant observation, 2 modules per layer left tasks 1
+// and 2 with identical routing (their embedding units dead under the ReLU)
+// and one action; 4 modules (the authors' deeper configuration) separate
+// all three.
+TEST(SacBanditTest, SoftModularSolvesTheThreeTaskBandit) {
+  SacConfig c = BanditConfig("soft_modular");
+  c.num_modules = 4;
+  SacLearner sac(c, /*obs_dim=*/1, /*action_dim=*/1, /*num_tasks=*/3);
+  TrainBandit(sac, /*hide_task=*/false, 2000);
+  const torch::Tensor act = sac.Act(torch::ones({3, 1}), torch::arange(3, torch::kInt64), true);
+  for (int t = 0; t < 3; ++t) EXPECT_NEAR(act[t][0].item<float>(), kTargets[t], 0.08f) << t;
+}
+TEST(SacBanditTest, PacoSolvesTheThreeTaskBandit) { ExpectSolvesBandit("paco", false, 1500); }
+TEST(SacBanditTest, MooreSolvesTheThreeTaskBandit) { ExpectSolvesBandit("moore", false); }
 
 TEST(SacBanditTest, WithoutTheTaskIdTheBestIsTheMeanTarget) {
   SacLearner sac(BanditConfig("mlp"), 1, 1, 3);

@@ -10,7 +10,9 @@
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
+#include "manyworlds/nn/task_trunks.h"
 #include "manyworlds/nn/task_conditioning.h"
 #include "manyworlds/nn/threads.h"
 
@@ -101,7 +103,9 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
 SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
                        int64_t num_tasks)
     : config_(Validated(config)),
-      arch_(static_cast<Arch>(ArchCode(config.architecture))),
+      arch_(static_cast<Arch>(std::min<int64_t>(ArchCode(config.architecture),
+                                                static_cast<int64_t>(Arch::kTaskTrunk)))),
+      arch_code_(ArchCode(config.architecture)),
       obs_dim_(obs_dim),
       action_dim_(action_dim),
       num_tasks_(num_tasks),
@@ -153,6 +157,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       input_dim_ = config.encoder_dim + embed;
       break;
     }
+    case Arch::kTaskTrunk:
+      break;
   }
 
   nn::GaussianPolicyOptions actor;
@@ -163,7 +169,25 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   actor.log_std_min = config.log_std_min;
   actor.log_std_max = config.log_std_max;
   actor.num_heads = heads;
-  actor_ = nn::GaussianPolicy(actor, generator_);
+  nn::TaskTrunkOptions trunk;
+  if (arch_ == Arch::kTaskTrunk) {
+    trunk.num_tasks = num_tasks;
+    trunk.hidden_dim = config.hidden_dim;
+    trunk.num_layers = config.num_layers;
+    trunk.num_experts = config.num_experts;
+    trunk.num_param_sets = config.num_param_sets;
+    trunk.num_modules = config.num_modules;
+    trunk.module_layers = config.module_layers;
+    trunk.module_hidden = config.module_hidden;
+    trunk.routing_layers = config.routing_layers;
+    trunk.routing_hidden = config.routing_hidden;
+    trunk.input_dim = input_dim_;
+    trunk.output_dim = 2 * action_dim;
+    actor_ = nn::GaussianPolicy(actor, nn::TaskTrunkFactory(config.architecture, trunk),
+                                trunk.output_dim, generator_);
+  } else {
+    actor_ = nn::GaussianPolicy(actor, generator_);
+  }
 
   nn::TwinCriticOptions critic;
   critic.obs_dim = input_dim_;
@@ -171,7 +195,14 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   critic.hidden_dim = config.hidden_dim;
   critic.num_layers = config.num_layers;
   critic.num_heads = heads;
-  critic_ = nn::TwinCritic(critic, generator_);
+  if (arch_ == Arch::kTaskTrunk) {
+    trunk.input_dim = input_dim_ + action_dim;
+    trunk.output_dim = 1;
+    trunk.ensemble_size = 2;
+    critic_ = nn::TwinCritic(critic, nn::TaskTrunkFactory(config.architecture, trunk), generator_);
+  } else {
+    critic_ = nn::TwinCritic(critic, generator_);
+  }
 
   log_alpha_ = torch::full({config.disentangled_alpha ? num_tasks : 1},
                            std::log(config.init_temperature), torch::kFloat32);
@@ -257,6 +288,7 @@ torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& obs,
       if (num_tasks_ == 1) return obs;
       return torch::cat({obs, torch::one_hot(task_index, num_tasks_).to(obs.scalar_type())}, -1);
     case Arch::kMultiHead:
+    case Arch::kTaskTrunk:
       return obs;
     case Arch::kTaskEncoder:
       return torch::cat(
@@ -279,12 +311,54 @@ torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& obs,
 }
 
 torch::Tensor SacLearner::Heads(const torch::Tensor& task_index) const {
-  return arch_ == Arch::kMultiHead ? task_index : torch::Tensor();
+  return arch_ == Arch::kMultiHead || arch_ == Arch::kTaskTrunk ? task_index : torch::Tensor();
 }
 
 torch::Tensor SacLearner::SampleAlpha(const torch::Tensor& task_index) const {
   torch::Tensor alpha = log_alpha_.exp();
   return config_.disentangled_alpha ? alpha.index_select(0, task_index) : alpha;
+}
+
+torch::Tensor SacLearner::SampleWeights(const torch::Tensor& task_index,
+                                        const torch::Tensor& masked) const {
+  const bool any_masked = masked.defined() && masked.numel() > 0;
+  if (!config_.task_reweight && !any_masked) return {};
+  torch::NoGradGuard no_grad;
+  // Per-task weights (T): T softmax(-log alpha), or ones; masked tasks 0.
+  torch::Tensor per_task =
+      config_.task_reweight
+          ? static_cast<double>(num_tasks_) * torch::softmax(-log_alpha_, 0)
+          : torch::ones({num_tasks_}, torch::kFloat32);
+  if (any_masked) per_task = per_task.index_fill(0, masked, 0.0);
+  return per_task.index_select(0, task_index);
+}
+
+torch::Tensor SacLearner::ExtremeTasks(const torch::Tensor& per_sample_loss,
+                                       const torch::Tensor& task_index) const {
+  torch::NoGradGuard no_grad;
+  const torch::Tensor sums =
+      torch::zeros({num_tasks_}, torch::kFloat32).index_add_(0, task_index, per_sample_loss);
+  const torch::Tensor counts = torch::bincount(task_index, {}, num_tasks_).to(torch::kFloat32);
+  const torch::Tensor mean = sums / counts.clamp_min(1.0);
+  return torch::nonzero(mean > config_.paco_reset_threshold).reshape({-1});
+}
+
+void SacLearner::ResetTaskWeights(const torch::Tensor& tasks) {
+  torch::NoGradGuard no_grad;
+  torch::Tensor normal = torch::ones({num_tasks_}, torch::kBool).index_fill(0, tasks, false);
+  const torch::Tensor normal_tasks = torch::nonzero(normal).reshape({-1});
+  if (normal_tasks.numel() == 0) return;  // nothing to interpolate from
+  for (nn::TrunkImpl* trunk : {actor_->trunk().get(), critic_->online().get()}) {
+    const auto* paco = dynamic_cast<const nn::PacoTrunkImpl*>(trunk);
+    if (paco == nullptr) throw Error("SacLearner: a PaCo reset needs PaCo networks");
+    const torch::Tensor w = paco->task_weights();  // (E, T, K)
+    // Rows of random L1-normalised mixing weights, (extreme, normal).
+    torch::Tensor mix = torch::rand({tasks.numel(), normal_tasks.numel()}, generator_);
+    mix = mix / mix.sum(1, true);
+    for (int64_t e = 0; e < w.size(0); ++e) {
+      w[e].index_copy_(0, tasks, torch::matmul(mix, w[e].index_select(0, normal_tasks)));
+    }
+  }
 }
 
 torch::Tensor SacLearner::CriticTargetWith(const Batch& batch, const torch::Tensor& alpha,
@@ -336,28 +410,51 @@ Metrics SacLearner::Update(const Batch& batch) {
 
   // Critic (and the encoders it trains). Each shard's loss is its sum over
   // rows divided by B, so the shards add up to MSE(Q1, y) + MSE(Q2, y).
+  const bool paco_resets = config_.architecture == "paco" && config_.paco_reset_threshold > 0.0;
+  torch::Tensor masked;  // PaCo: tasks left out of this update
+  torch::Tensor weights = SampleWeights(batch.task_index, masked);  // (B) or undefined
   std::vector<double> critic_loss_part(shards), q_sum_part(shards);
+  std::vector<torch::Tensor> sample_loss_part(shards);  // PaCo: (n) per shard
   torch::Tensor critic_per_sample;  // PCGrad (one shard): (B)
-  pool_->Run(shards, [&](int s) {
-    const auto [lo, n] = rows(s);
-    const Batch part = Rows(batch, lo, n);
-    const ShardParams params = ParamsOf(s);
-    const torch::Tensor y =
-        CriticTargetWith(part, RowsOf(alpha, lo, n, b), next_eps.narrow(0, lo, n));
-    const torch::Tensor x = NetworkInputWith(part.obs, part.task_index, false, params);
-    const torch::Tensor q =
-        critic_->Q(x, part.action, Heads(part.task_index), params.critic);  // (2, n)
-    const torch::Tensor squared = (q - y).square();
-    const torch::Tensor loss = squared.sum() / static_cast<double>(b);
-    critic_loss_part[s] = loss.item<double>();
-    q_sum_part[s] = q.detach().sum().item<double>();
-    if (config_.pcgrad) {
-      critic_per_sample = squared.sum(0);
-      return;
+  auto critic_phase = [&] {
+    pool_->Run(shards, [&](int s) {
+      const auto [lo, n] = rows(s);
+      const Batch part = Rows(batch, lo, n);
+      const ShardParams params = ParamsOf(s);
+      const torch::Tensor y =
+          CriticTargetWith(part, RowsOf(alpha, lo, n, b), next_eps.narrow(0, lo, n));
+      const torch::Tensor x = NetworkInputWith(part.obs, part.task_index, false, params);
+      const torch::Tensor q =
+          critic_->Q(x, part.action, Heads(part.task_index), params.critic);  // (2, n)
+      const torch::Tensor squared = (q - y).square();
+      torch::Tensor per_sample;  // (n), only where needed: the plain loss sums (2, n) directly
+      if (config_.pcgrad || weights.defined() || paco_resets) per_sample = squared.sum(0);
+      if (paco_resets) sample_loss_part[s] = per_sample.detach();
+      if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
+      const torch::Tensor loss =
+          (weights.defined() ? per_sample.sum() : squared.sum()) / static_cast<double>(b);
+      critic_loss_part[s] = loss.item<double>();
+      q_sum_part[s] = q.detach().sum().item<double>();
+      if (config_.pcgrad) {
+        critic_per_sample = per_sample;
+        return;
+      }
+      ZeroShardGrads(s, /*critic_group=*/true);
+      loss.backward();
+    });
+  };
+  critic_phase();
+  if (paco_resets) {
+    const torch::Tensor extreme = ExtremeTasks(
+        shards == 1 ? sample_loss_part[0] : torch::cat(sample_loss_part), batch.task_index);
+    if (extreme.numel() > 0) {
+      // Rare: recompute the phase with those tasks' samples weighted 0.
+      masked = extreme;
+      weights = SampleWeights(batch.task_index, masked);
+      critic_phase();
     }
-    ZeroShardGrads(s, /*critic_group=*/true);
-    loss.backward();
-  });
+    metrics.Set("paco_resets", static_cast<double>(extreme.numel()));
+  }
   double critic_loss_value = 0.0, q_sum = 0.0;
   for (int s = 0; s < shards; ++s) {
     critic_loss_value += critic_loss_part[s];
@@ -404,8 +501,9 @@ Metrics SacLearner::Update(const Batch& batch) {
       // Detached critic weights: the backward reaches the action only.
       const torch::Tensor q_pi =
           critic_->Q(x, pi.action, heads, critic_->online()->detached_params());
-      const torch::Tensor per_sample =
+      torch::Tensor per_sample =
           RowsOf(alpha, lo, n, b) * pi.log_prob - torch::minimum(q_pi[0], q_pi[1]);
+      if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
       const torch::Tensor loss = per_sample.sum() / static_cast<double>(b);
       actor_loss_part[s] = loss.item<double>();
       log_prob_part[s] = pi.log_prob.detach();
@@ -416,7 +514,7 @@ Metrics SacLearner::Update(const Batch& batch) {
       ZeroShardGrads(s, /*critic_group=*/false);
       loss.backward();
     });
-    nn::MlpImpl& trunk = *actor_->trunk();
+    nn::TrunkImpl& trunk = *actor_->trunk();
     if (config_.pcgrad) {
       metrics.Set("pcgrad_actor_conflicts",
                   PcGradBackward(actor_per_sample, batch.task_index, {&trunk}));
@@ -443,6 +541,7 @@ Metrics SacLearner::Update(const Batch& batch) {
     metrics.Set("entropy", -log_prob.mean().item<double>());
   }
 
+  if (masked.defined() && masked.numel() > 0) ResetTaskWeights(masked);
   if (num_updates_ % config_.critic_target_update_freq == 0) {
     critic_->UpdateTarget(config_.tau);
     if (encoder_) nn::PolyakUpdate(encoder_target_->flat(), encoder_->flat(), config_.tau);
@@ -509,7 +608,7 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
 }
 
 void SacLearner::Save(torch::serialize::OutputArchive& archive) const {
-  archive.write("architecture", torch::tensor(static_cast<int64_t>(arch_), torch::kInt64));
+  archive.write("architecture", torch::tensor(arch_code_, torch::kInt64));
   archive.write("num_tasks", torch::tensor(num_tasks_, torch::kInt64));
   TransferNetworks(archive, *this);
   WriteProgress(archive, num_updates_, generator_);
@@ -522,7 +621,7 @@ void SacLearner::Load(torch::serialize::InputArchive& archive) {
   }
   const std::vector<std::string>& names = SacArchitectures();
   const int64_t code = arch.item<int64_t>();
-  if (code != static_cast<int64_t>(arch_) || tasks.item<int64_t>() != num_tasks_) {
+  if (code != arch_code_ || tasks.item<int64_t>() != num_tasks_) {
     const std::string saved = code >= 0 && code < static_cast<int64_t>(names.size())
                                   ? names[static_cast<size_t>(code)]
                                   : "unknown";

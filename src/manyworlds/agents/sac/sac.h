@@ -28,6 +28,12 @@
 //     critics (and of the target mixture encoder, with the same tau; MTRL
 //     uses a separate encoder_tau of 0.05 there).
 // Temperatures are per task with disentangled_alpha, indexed by task_index.
+// With task_reweight every sample's terms in the critic and actor losses are
+// weighted by num_tasks * softmax(-log alpha)[task] (Soft Modularization).
+// For "paco" with paco_reset_threshold > 0, tasks whose critic loss exceeds
+// the threshold get weight 0 in this update (the critic phase is recomputed
+// with them masked) and their task weights are reset after it (metric
+// paco_resets: how many tasks).
 //
 // With config.pcgrad, steps 2 and 3 compute one gradient per task present in
 // the batch (the mean loss over that task's samples), combine them with
@@ -158,7 +164,8 @@ class SacLearner : public OffPolicyLearner, public Actor {
   template <typename Archive, typename Self>
   static void TransferNetworks(Archive& archive, Self& self);
 
-  enum class Arch { kMlp, kMultiHead, kTaskEncoder, kMoe };
+  // kTaskTrunk: soft_modular, paco, moore (nn/task_trunks.h).
+  enum class Arch { kMlp, kMultiHead, kTaskEncoder, kMoe, kTaskTrunk };
 
   // What the critic loss trains: the online critics, then the encoders the
   // architecture has, each with its optimizer. Built on demand (a moved
@@ -183,6 +190,16 @@ class SacLearner : public OffPolicyLearner, public Actor {
                                  bool target, const ShardParams& params) const;
   // Per-sample temperatures (B), or (1) when shared.
   torch::Tensor SampleAlpha(const torch::Tensor& task_index) const;
+  // Per-sample loss weights (B): task_reweight's, times 0 for masked tasks;
+  // undefined when every weight is 1.
+  torch::Tensor SampleWeights(const torch::Tensor& task_index, const torch::Tensor& masked) const;
+  // PaCo: tasks (int64) whose mean critic loss over their samples exceeds
+  // the threshold, from per-sample losses (B).
+  torch::Tensor ExtremeTasks(const torch::Tensor& per_sample_loss,
+                             const torch::Tensor& task_index) const;
+  // PaCo: the task weights of `tasks` in the online actor and critics become
+  // random convex combinations of the other tasks' weights.
+  void ResetTaskWeights(const torch::Tensor& tasks);
   // The critic target with the given temperatures and the noise eps (B, A)
   // for the next actions.
   torch::Tensor CriticTargetWith(const Batch& batch, const torch::Tensor& alpha,
@@ -197,6 +214,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
 
   SacConfig config_;
   Arch arch_;
+  int64_t arch_code_;  // place in SacArchitectures(), stored in checkpoints
   int64_t obs_dim_;
   int64_t action_dim_;
   int64_t num_tasks_;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/task_trunks.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -55,6 +56,22 @@ void SacConfig::Validate() const {
   Require(task_embedding_dim > 0, "task_embedding_dim", "> 0", task_embedding_dim);
   Require(num_experts >= 1, "num_experts", ">= 1", num_experts);
   Require(encoder_dim > 0, "encoder_dim", "> 0", encoder_dim);
+  Require(num_modules >= 1 && num_modules <= 64, "num_modules", "in [1, 64]", num_modules);
+  Require(module_layers >= 2 && module_layers <= 16, "module_layers", "in [2, 16]",
+          module_layers);
+  Require(module_hidden > 0 && module_hidden <= 65536, "module_hidden", "in [1, 65536]",
+          module_hidden);
+  Require(routing_layers >= 1 && routing_layers <= 16, "routing_layers", "in [1, 16]",
+          routing_layers);
+  Require(routing_hidden > 0 && routing_hidden <= 65536, "routing_hidden", "in [1, 65536]",
+          routing_hidden);
+  Require(num_param_sets >= 1 && num_param_sets <= 64, "num_param_sets", "in [1, 64]",
+          num_param_sets);
+  Require(!std::isnan(paco_reset_threshold), "paco_reset_threshold", "a number",
+          paco_reset_threshold);
+  Require(!task_reweight || disentangled_alpha, "task_reweight",
+          "false unless disentangled_alpha is true (it weighs tasks by their own temperatures)",
+          task_reweight);
   Require(update_shards >= 1 && update_shards <= 64, "update_shards", "in [1, 64]",
           update_shards);
   Require(update_threads >= 0 && update_threads <= 64, "update_threads",
@@ -62,7 +79,12 @@ void SacConfig::Validate() const {
 }
 
 const std::vector<std::string>& SacArchitectures() {
-  static const std::vector<std::string> names = {"mlp", "multihead", "task_encoder", "moe"};
+  // The index of a name is its code in checkpoints: append only.
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> list = {"mlp", "multihead", "task_encoder", "moe"};
+    for (const nn::TaskTrunkInfo& trunk : nn::TaskTrunks()) list.push_back(trunk.name);
+    return list;
+  }();
   return names;
 }
 

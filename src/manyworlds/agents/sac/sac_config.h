@@ -20,6 +20,22 @@
 //                  encoding]. The encoders are trained through the critic
 //                  loss; the actor sees them detached (MTRL ties the actor's
 //                  encoder to the critic's).
+//   "soft_modular", "paco", "moore"
+//                  networks whose structure depends on the task, for the
+//                  actor and both critics (nn/task_trunks.h): Soft
+//                  Modularization's routed modules, PaCo's per-task
+//                  combinations of shared parameter sets, MOORE's
+//                  orthogonal experts with one head per task. The
+//                  observation goes in without a one-hot.
+// task_reweight (Soft Modularization's trainer): each sample's critic and
+// actor loss is multiplied by num_tasks * softmax(-log alpha)[task], so
+// tasks whose temperature is still high weigh less; needs
+// disentangled_alpha.
+// paco_reset_threshold (PaCo's trainer): a task whose critic loss (its mean
+// squared TD error, both critics summed) exceeds it is left out of the update
+// and its task weights in the actor and critic are reset to a random convex
+// combination of the other tasks' (`mask_extreme_task`,
+// `reset_task_method="interpolate"`); <= 0 disables.
 // pcgrad: per-task gradients of the critic and actor losses combined by
 // PCGrad (nn/pcgrad.h) before the fused Adam steps.
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
@@ -60,11 +76,23 @@ struct SacConfig {
   uint64_t seed = 0;  // initialisation and action sampling
 
   // Multi-task variants (see the top of this file).
-  std::string architecture = "mlp";  // mlp | multihead | task_encoder | moe
+  // mlp | multihead | task_encoder | moe | soft_modular | paco | moore
+  std::string architecture = "mlp";
   int64_t task_embedding_dim = 50;   // task_encoder and moe
-  int64_t num_experts = 4;           // moe (CARE's MT10 command uses 4)
+  int64_t num_experts = 4;  // moe, moore (CARE's and MOORE's MT10 commands use 4)
   int64_t encoder_dim = 50;          // moe: output (and hidden) width of the experts
   bool pcgrad = false;
+  // soft_modular (the authors' MT10 config modular_2_2_2_256: 2 layers of 2
+  // modules of width 256, a routing MLP of 2 layers of 256; its base MLP
+  // uses hidden_dim).
+  int64_t num_modules = 2;
+  int64_t module_layers = 2;
+  int64_t module_hidden = 256;
+  int64_t routing_layers = 2;
+  int64_t routing_hidden = 256;
+  int64_t num_param_sets = 5;           // paco (its MT10 config: 5)
+  double paco_reset_threshold = 3000.0;  // paco (its MT10 config: task_loss_threshold 3e3)
+  bool task_reweight = false;
 
   // Data-parallel updates: each update splits its batch into update_shards
   // parts whose gradients are computed at once on update_threads threads
@@ -84,7 +112,9 @@ struct SacConfig {
                             adam_beta2, discount, tau, init_temperature, batch_size, target_entropy,
                             disentangled_alpha, log_std_min, log_std_max, actor_update_freq,
                             critic_target_update_freq, max_critic_loss, seed, architecture,
-                            task_embedding_dim, num_experts, encoder_dim, pcgrad, update_shards,
+                            task_embedding_dim, num_experts, encoder_dim, pcgrad, num_modules,
+                            module_layers, module_hidden, routing_layers, routing_hidden,
+                            num_param_sets, paco_reset_threshold, task_reweight, update_shards,
                             update_threads);
   }
   // Throws ConfigError naming the first bad field and its allowed range.
