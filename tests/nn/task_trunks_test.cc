@@ -147,6 +147,13 @@ TEST(PacoTrunkTest, SetsStartIdenticalAndTasksDiffer) {
   EXPECT_FALSE(torch::allclose(out.select(1, 0), out.select(1, 1)));
 }
 
+// Every parameter redrawn from N(0, 0.5^2).
+void Redraw(TrunkImpl& trunk, uint64_t seed) {
+  torch::NoGradGuard no_grad;
+  at::Generator g = at::detail::createCPUGenerator(seed);
+  for (torch::Tensor p : trunk.detached_params()) p.normal_(0.0, 0.5, g);
+}
+
 // One row through the authors' structure, module by module.
 torch::Tensor SoftModularRow(const SoftModularTrunkImpl& sm, const TaskTrunkOptions& o,
                              const torch::Tensor& x, int64_t task) {
@@ -204,6 +211,9 @@ torch::Tensor SoftModularRow(const SoftModularTrunkImpl& sm, const TaskTrunkOpti
 TEST(SoftModularTrunkTest, EqualsTheModuleByModuleComputation) {
   const TaskTrunkOptions o = Small(1);
   SoftModularTrunkImpl sm(o, at::detail::createCPUGenerator(1));
+  // The authors' initialisation makes routing near-uniform and outputs tiny,
+  // which would hide a wrong mixing order: draw everything at unit scale.
+  Redraw(sm, 8);
   const torch::Tensor x = Input(4);
   const torch::Tensor out = sm.Forward(x, kTask, sm.detached_params());
   for (int64_t row = 0; row < 6; ++row) {
@@ -232,6 +242,7 @@ TEST(TaskTrunkTest, AnEnsembleEqualsItsMembersRunAlone) {
   for (const TaskTrunkInfo& info : TaskTrunks()) {
     const std::shared_ptr<TrunkImpl> pair = info.make(Small(2), at::detail::createCPUGenerator(1));
     const std::shared_ptr<TrunkImpl> one = info.make(Small(1), at::detail::createCPUGenerator(2));
+    Redraw(*pair, 9);  // unit-scale values, so that a wrong member would show
     const torch::Tensor x = Input(6);
     const torch::Tensor both = pair->Forward(x, kTask, pair->detached_params());
     ASSERT_EQ(both.sizes(), (std::vector<int64_t>{2, 6, 3})) << info.name;
