@@ -31,11 +31,70 @@ off the critics' weight gradients in the actor loss (manyworlds never computes t
 plain version computes and discards them), `--foreach` uses Adam's multi-tensor
 implementation and torch._foreach ops for the Polyak update.
 
+Multi-task architectures (`--architecture`, `--tasks T`), the peer of `bench agent
+--architecture X --tasks T --disentangled-alpha`: every batch row gets a task index drawn
+uniformly (`--batch` is the whole batch, as in `bench agent`); with T > 1 the temperature is one
+per task (log_alpha of size T, alpha and the temperature loss per row). The actor is one network
+obs -> 2 * action_dim, the critics two networks (obs, action) -> 1, as in manyworlds' SAC; the
+observation goes in without a one-hot and the networks read the task index of each row:
+
+- `mlp` (MT-SAC; the default, and with T = 1 exactly the plain update above): the MLPs see the
+  observation followed by a one-hot of the task when T > 1.
+- `soft_modular` (Soft Modularization, Yang et al. 2020; manyworlds' nn/soft_modular.h): base
+  Linear(in, H) ReLU Linear(H, H); task embedding Linear(one-hot, H) times the base output,
+  ReLU, a routing MLP of `--routing-layers` x `--routing-hidden`; routing softmaxes
+  p_1 = softmax(W_1 relu(z)) (n x n per row), p_l = softmax(W_l relu(U_l [p_1..p_{l-1}] * z)),
+  output weights q = softmax(W_q relu(U_q [p_1..p_{L-1}] * z)) over the last layer's modules;
+  `--module-layers` layers of `--num-modules` Linear(., `--module-hidden`) modules, each an
+  nn.Linear in an nn.ModuleList looped over (as the authors write it; n = 2), ReLU of the routed
+  mixture in front of each layer; output Linear(M, out). With `--architecture soft_modular` the
+  per-sample critic and actor losses are weighted by T softmax(-log_alpha)[task] (the trainer's
+  task reweighting, `task_reweight: true` in configs/mt10_soft_modular.yaml); `--task-reweight
+  off` drops it (`bench agent` has no flag for it and times the learner without it).
+- `paco` (PaCo, Sun et al. 2022; nn/paco.h): every linear map holds K = `--num-param-sets`
+  parameter sets, written as one nn.Linear(in, K * out) whose K pre-activations are combined by
+  the row's task weights (nn.Embedding(T, K), i.e. a bias-free linear map of the one-hot);
+  `--layers` hidden layers of `--hidden`, ReLU, linear output; the K sets start identical.
+  Each update computes the per-task mean critic loss and masks tasks above
+  `--paco-reset-threshold` (3000, the MT10 config's), resetting their task weights to random
+  convex combinations of the others' after the update, as manyworlds does; on these random
+  batches it never fires.
+- `moore` (MOORE, Hendawy et al. 2024; nn/moore.h): k = `--num-experts` expert MLPs of
+  `--layers` linear maps of width `--hidden` (ReLU between, the last linear), written as
+  batched parameters (k, in, out) with one torch.baddbmm per layer (the fast way to write k
+  equal MLPs; a ModuleList of k MLPs does k times as many small products); Gram-Schmidt over
+  the k outputs of each row (a Python loop over k, F.normalize for the norms); task weights
+  nn.Embedding(T, k); tanh of the mixture; one output head per task as one nn.Linear(H, T *
+  out) whose row's head is picked by indexing.
+
+Sizes default to manyworlds' SacConfig defaults (2 modules, 2 module layers of 256, routing
+2 x 256; 5 parameter sets; 4 experts); `bench agent` has no flags for them. What the peer does
+differently from manyworlds: separate critic modules instead of one two-member ensemble of
+batched products, per-module optimizers and a parameter loop for Polyak (as for plain SAC), and
+the critics' weight gradients in the actor loss are computed and discarded (as above).
+
+`--check` builds the networks at the given sizes, checks output shapes, that the outputs depend
+on the task (same observation, different task), that MOORE's basis is orthonormal and SM's
+routing rows sum to 1, runs two updates and checks that every parameter stays finite, and
+prints each network's parameter count beside the count of manyworlds' parameter layout
+(`specs()`, computed from the layout formulas transcribed from nn/soft_modular.cc, paco.cc,
+moore.cc and mlp.cc into `cpp_layout_params` below), failing if they differ. At the MT10 sizes
+(obs 39, action 4, 10 tasks, 3 x 400) both sides hold, actor / one critic / twin critics:
+
+    mlp (one-hot input)  344,008 / 342,801 /   685,602
+    soft_modular         691,022 / 690,823 / 1,381,646
+    paco               1,700,090 / 1,694,055 / 3,388,110
+    moore              1,379,320 / 1,357,650 / 2,715,300
+
     python3 bench/peers/sac_update.py --threads 1
+    python3 bench/peers/sac_update.py --architecture moore --tasks 10 --batch 320 --threads 1
+    python3 bench/peers/sac_update.py --architecture paco --tasks 10 --check
 """
 import argparse
 import os
 import sys
+
+ARCHITECTURES = ("mlp", "soft_modular", "paco", "moore")
 
 
 def parse_args():
@@ -55,7 +114,203 @@ def parse_args():
     p.add_argument("--foreach", action="store_true",
                    help="multi-tensor Adam and Polyak update")
     p.add_argument("--seed", type=int, default=0)
-    return p.parse_args()
+    p.add_argument("--architecture", choices=ARCHITECTURES, default="mlp",
+                   help="actor and critic networks (mlp: MT-SAC with a one-hot when --tasks > 1)")
+    p.add_argument("--tasks", type=int, default=1,
+                   help="tasks; rows draw task indices uniformly, one temperature per task")
+    p.add_argument("--task-reweight", choices=("auto", "on", "off"), default="auto",
+                   help="losses weighted by T softmax(-log_alpha)[task] (auto: soft_modular)")
+    p.add_argument("--paco-reset-threshold", type=float, default=3000.0,
+                   help="paco: mask and reset tasks whose mean critic loss exceeds this "
+                        "(<= 0: off)")
+    p.add_argument("--num-modules", type=int, default=2, help="soft_modular")
+    p.add_argument("--module-layers", type=int, default=2, help="soft_modular")
+    p.add_argument("--module-hidden", type=int, default=256, help="soft_modular")
+    p.add_argument("--routing-layers", type=int, default=2, help="soft_modular")
+    p.add_argument("--routing-hidden", type=int, default=256, help="soft_modular")
+    p.add_argument("--num-param-sets", type=int, default=5, help="paco")
+    p.add_argument("--num-experts", type=int, default=4, help="moore")
+    p.add_argument("--check", action="store_true",
+                   help="check shapes, task dependence and parameter counts; no timing")
+    args = p.parse_args()
+    if args.tasks < 1:
+        p.error("--tasks must be >= 1")
+    if args.task_reweight == "on" and args.tasks < 2:
+        p.error("--task-reweight on needs --tasks > 1 (one temperature per task)")
+    if args.architecture == "soft_modular" and args.module_layers < 2:
+        p.error("--module-layers must be >= 2")
+    return args
+
+
+def cpp_layout_params(args, inp, out):
+    """Parameters of one member of manyworlds' network (the sizes of its `specs()` layout),
+    from the layout code of nn/mlp.cc (AppendMlpLayout), soft_modular.cc (Layout), paco.cc and
+    moore.cc; `inp` excludes the one-hot that manyworlds' MT-SAC appends for `mlp`."""
+    def linear(i, o):
+        return i * o + o
+
+    t, h = args.tasks, args.hidden
+    if args.architecture == "mlp":
+        widths = [inp + (t if t > 1 else 0)] + [h] * args.layers + [out]
+        return sum(linear(i, o) for i, o in zip(widths, widths[1:]))
+    if args.architecture == "soft_modular":
+        n, m, g = args.num_modules, args.module_hidden, args.routing_hidden
+        layers = args.module_layers
+        total = linear(inp, h) + linear(h, h) + linear(t, h)  # base0, base1, embed
+        total += sum(linear(h if i == 0 else g, g) for i in range(args.routing_layers))
+        total += linear(g, n * n)  # logit0
+        total += sum(linear(l * n * n, g) + linear(g, n * n) for l in range(1, layers - 1))
+        total += linear((layers - 1) * n * n, g) + linear(g, n)  # condq, logitq
+        total += linear(h, n * m) + (layers - 1) * n * linear(m, m) + linear(m, out)
+        return total
+    if args.architecture == "paco":
+        k = args.num_param_sets
+        widths = [inp] + [h] * args.layers + [out]
+        return sum(i * k * o + k * o for i, o in zip(widths, widths[1:])) + t * k
+    k = args.num_experts  # moore
+    widths = [inp] + [h] * args.layers
+    return (k * sum(linear(i, o) for i, o in zip(widths, widths[1:])) + t * k
+            + h * t * out + t * out)
+
+
+def task_networks():
+    """The three multi-task networks as nn.Modules, forward(x, task) with x (B, in) and task (B)
+    int64. Defined in a function because torch may load only after the thread variables are
+    set (main)."""
+    import math
+
+    import torch
+    from torch import nn
+    from torch.nn import functional as F
+
+    def init_hidden(layer):
+        # Soft Modularization's initialiser: U(+-1/sqrt(size(0))) of the (out, in) weight, bias 0.1.
+        nn.init.uniform_(layer.weight, -1 / math.sqrt(layer.weight.size(0)),
+                         1 / math.sqrt(layer.weight.size(0)))
+        nn.init.constant_(layer.bias, 0.1)
+
+    def init_last(layer):
+        nn.init.uniform_(layer.weight, -3e-3, 3e-3)
+        nn.init.uniform_(layer.bias, -3e-3, 3e-3)
+
+    class SoftModularNet(nn.Module):
+        def __init__(self, inp, out, tasks, hidden, num_modules, module_layers, module_hidden,
+                     routing_layers, routing_hidden):
+            super().__init__()
+            n, g = num_modules, routing_hidden
+            self.tasks, self.n = tasks, n
+            self.base = nn.Sequential(nn.Linear(inp, hidden), nn.ReLU(), nn.Linear(hidden, hidden))
+            self.embed = nn.Linear(tasks, hidden)
+            route = []
+            for i in range(routing_layers):
+                route += [nn.Linear(hidden if i == 0 else g, g), nn.ReLU()]
+            self.route = nn.Sequential(*route[:-1])  # no ReLU after the last routing layer
+            # U_l reads the flattened p_1..p_{l-1}; W_l gives layer l's n x n logits, W_q n.
+            self.conds = nn.ModuleList(nn.Linear(l * n * n, g) for l in range(1, module_layers))
+            self.logits = nn.ModuleList([nn.Linear(g, n * n) for _ in range(module_layers - 1)]
+                                        + [nn.Linear(g, n)])
+            self.module_layers = nn.ModuleList(
+                nn.ModuleList(nn.Linear(hidden if l == 0 else module_hidden, module_hidden)
+                              for _ in range(n))
+                for l in range(module_layers))
+            self.out = nn.Linear(module_hidden, out)
+            for layer in [self.base[0], self.base[2], self.embed, *self.conds,
+                          *(m for m in self.route if isinstance(m, nn.Linear)),
+                          *(m for layer in self.module_layers for m in layer)]:
+                init_hidden(layer)
+            for layer in [*self.logits, self.out]:
+                init_last(layer)
+
+        def routing(self, base, task):
+            """The n x n routing matrices of the module layers, then the output weights (B, n)."""
+            n = self.n
+            z = self.route(F.relu(self.embed(F.one_hot(task, self.tasks).float()) * base))
+            probs = [F.softmax(self.logits[0](F.relu(z)).view(-1, n, n), -1)]
+            for l, (cond, logit) in enumerate(zip(self.conds, self.logits[1:])):
+                c = F.relu(cond(torch.cat([p.flatten(1) for p in probs], -1)) * z)
+                last = l + 1 == len(self.conds)  # the output weights (B, n)
+                probs.append(F.softmax(logit(c) if last else logit(c).view(-1, n, n), -1))
+            return probs
+
+        def forward(self, x, task):
+            base = self.base(x)
+            probs = self.routing(base, task)
+            h = F.relu(base)
+            outs = torch.stack([module(h) for module in self.module_layers[0]], 1)  # (B, n, M)
+            for p, layer in zip(probs[:-1], self.module_layers[1:]):
+                mixed = F.relu(p @ outs)  # module j reads sum_i p[j, i] out_i
+                outs = torch.stack([module(mixed[:, j]) for j, module in enumerate(layer)], 1)
+            return self.out(F.relu((probs[-1].unsqueeze(1) @ outs).squeeze(1)))
+
+    class PacoNet(nn.Module):
+        def __init__(self, inp, out, tasks, hidden, layers, num_param_sets):
+            super().__init__()
+            k = self.k = num_param_sets
+            widths = [inp] + [hidden] * layers + [out]
+            # Layer l's K parameter sets side by side: set j is outputs [j out, (j + 1) out).
+            self.maps = nn.ModuleList(nn.Linear(i, k * o) for i, o in zip(widths, widths[1:]))
+            self.task_weights = nn.Embedding(tasks, k)  # a bias-free linear map of the one-hot
+            with torch.no_grad():
+                for layer, o in zip(self.maps, widths[1:]):
+                    first = nn.init.orthogonal_(torch.empty(o, layer.in_features))
+                    layer.weight.copy_(first.repeat(k, 1))  # K identical sets
+                    layer.bias.zero_()
+                nn.init.normal_(self.task_weights.weight, 0.0, 1 / math.sqrt(tasks))
+
+        def forward(self, x, task):
+            w = self.task_weights(task).unsqueeze(1)  # (B, 1, K)
+            h = x
+            for i, layer in enumerate(self.maps):
+                h = (w @ layer(h).view(h.size(0), self.k, -1)).squeeze(1)  # sum_k w_k (x W_k + b_k)
+                if i + 1 < len(self.maps):
+                    h = F.relu(h)
+            return h
+
+    class MooreNet(nn.Module):
+        def __init__(self, inp, out, tasks, hidden, layers, num_experts):
+            super().__init__()
+            k = self.k = num_experts
+            self.tasks, self.out_dim = tasks, out
+            widths = [inp] + [hidden] * layers
+            # k expert MLPs as batched parameters: layer l's weights (k, in, out), biases
+            # (k, 1, out).
+            self.weights = nn.ParameterList(nn.Parameter(torch.empty(k, i, o))
+                                            for i, o in zip(widths, widths[1:]))
+            self.biases = nn.ParameterList(nn.Parameter(torch.zeros(k, 1, o)) for o in widths[1:])
+            self.task_weights = nn.Embedding(tasks, k)  # bias-free linear map of the one-hot
+            self.heads = nn.Linear(hidden, tasks * out)  # head t is outputs [t out, (t + 1) out)
+            with torch.no_grad():
+                for i, w in enumerate(self.weights):  # Xavier-uniform, ReLU gain but the last
+                    gain = 1.0 if i + 1 == len(self.weights) else math.sqrt(2.0)
+                    bound = gain * math.sqrt(6.0 / (w.size(1) + w.size(2)))
+                    w.uniform_(-bound, bound)
+                bound = math.sqrt(6.0 / (tasks + k))
+                self.task_weights.weight.uniform_(-bound, bound)
+                bound = math.sqrt(6.0 / (hidden + out))
+                self.heads.weight.uniform_(-bound, bound)
+                self.heads.bias.zero_()
+
+        def basis(self, x):
+            """(B, k, H): the experts' outputs of each row, orthonormalised by Gram-Schmidt."""
+            h = x.expand(self.k, *x.shape)
+            for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+                h = torch.baddbmm(b, h, w)
+                if i + 1 < len(self.weights):
+                    h = F.relu(h)
+            basis = []
+            for v in h.unbind(0):
+                for u in basis:
+                    v = v - (v * u).sum(-1, keepdim=True) * u
+                basis.append(F.normalize(v, dim=-1))
+            return torch.stack(basis, 1)
+
+        def forward(self, x, task):
+            w = self.task_weights(task).unsqueeze(1)  # (B, 1, k)
+            features = torch.tanh((w @ self.basis(x)).squeeze(1))
+            heads = self.heads(features).view(x.size(0), self.tasks, self.out_dim)
+            return heads[torch.arange(x.size(0)), task]
+
+    return {"soft_modular": SoftModularNet, "paco": PacoNet, "moore": MooreNet}
 
 
 def main():
@@ -84,15 +339,37 @@ def main():
         mods.append(nn.Linear(width, out))
         return nn.Sequential(*mods)
 
+    arch, num_tasks = args.architecture, args.tasks
+    multitask = arch != "mlp" or num_tasks > 1  # the plain update when False
+    disentangled = num_tasks > 1
+    reweight = (args.task_reweight == "on"
+                or (args.task_reweight == "auto" and arch == "soft_modular" and disentangled))
+    paco_resets = arch == "paco" and args.paco_reset_threshold > 0
+
+    if arch == "mlp":
+        one_hot = num_tasks > 1
+        net = mlp
+    else:
+        one_hot = False
+        cls = task_networks()[arch]
+        sizes = {"soft_modular": (args.hidden, args.num_modules, args.module_layers,
+                                  args.module_hidden, args.routing_layers, args.routing_hidden),
+                 "paco": (args.hidden, args.layers, args.num_param_sets),
+                 "moore": (args.hidden, args.layers, args.num_experts)}[arch]
+
+        def net(inp, out):
+            return cls(inp, out, num_tasks, *sizes)
+
     o, a, b = args.obs_dim, args.action_dim, args.batch
-    actor = mlp(o, 2 * a)
-    qf1, qf2 = mlp(o + a, 1), mlp(o + a, 1)
-    qf1_target, qf2_target = mlp(o + a, 1), mlp(o + a, 1)
+    width = o + (num_tasks if one_hot else 0)  # network input without the action
+    actor = net(width, 2 * a)
+    qf1, qf2 = net(width + a, 1), net(width + a, 1)
+    qf1_target, qf2_target = net(width + a, 1), net(width + a, 1)
     qf1_target.load_state_dict(qf1.state_dict())
     qf2_target.load_state_dict(qf2.state_dict())
     for p in list(qf1_target.parameters()) + list(qf2_target.parameters()):
         p.requires_grad_(False)
-    log_alpha = torch.zeros(1, requires_grad=True)
+    log_alpha = torch.zeros(num_tasks if disentangled else 1, requires_grad=True)
     adam = dict(lr=3e-4, betas=(0.9, 0.999))
     if args.foreach:
         adam["foreach"] = True
@@ -106,8 +383,20 @@ def main():
     online = q_params
     targets = list(qf1_target.parameters()) + list(qf2_target.parameters())
 
-    def sample(x):
-        out = actor(x)
+    if arch == "mlp":
+        def forward(module, x, task):
+            return module(x)
+    else:
+        def forward(module, x, task):
+            return module(x, task)
+
+    def net_input(obs, task):
+        if one_hot:
+            return torch.cat([obs, nn.functional.one_hot(task, num_tasks).to(obs.dtype)], 1)
+        return obs
+
+    def sample(x, task):
+        out = forward(actor, x, task)
         mean, raw = out[:, :a], out[:, a:]
         log_std = log_std_min + 0.5 * (log_std_max - log_std_min) * (torch.tanh(raw) + 1)
         std = log_std.exp()
@@ -119,18 +408,53 @@ def main():
         log_prob = log_prob - (2 * (math.log(2) - u - nn.functional.softplus(-2 * u))).sum(-1)
         return action, log_prob
 
-    def update(batch):
-        obs, action, reward, next_obs, done = batch
-        alpha = log_alpha.exp().detach()
+    def reset_task_weights(tasks):
+        """PaCo: the task weights of `tasks` become random convex combinations of the others'."""
         with torch.no_grad():
-            next_action, next_log_prob = sample(next_obs)
-            next_in = torch.cat([next_obs, next_action], 1)
-            min_q = torch.min(qf1_target(next_in), qf2_target(next_in)).squeeze(-1)
+            normal = torch.ones(num_tasks, dtype=torch.bool)
+            normal[tasks] = False
+            if not normal.any():
+                return
+            for module in (actor, qf1, qf2):
+                w = module.task_weights.weight
+                mix = torch.rand(len(tasks), int(normal.sum()))
+                w[tasks] = (mix / mix.sum(1, keepdim=True)) @ w[normal]
+
+    paco_reset_count = [0]  # task resets so far (reported; none expected on random batches)
+
+    def update(batch):
+        obs, action, reward, next_obs, done, task = batch
+        alpha = log_alpha.exp().detach()
+        if disentangled:
+            alpha = alpha[task]
+        weights = None  # per-sample loss weights
+        if reweight:
+            weights = num_tasks * torch.softmax(-log_alpha.detach(), 0)[task]
+        x, next_x = net_input(obs, task), net_input(next_obs, task)
+        with torch.no_grad():
+            next_action, next_log_prob = sample(next_x, task)
+            next_in = torch.cat([next_x, next_action], 1)
+            min_q = torch.min(forward(qf1_target, next_in, task),
+                              forward(qf2_target, next_in, task)).squeeze(-1)
             y = reward + discount * (1 - done) * (min_q - alpha * next_log_prob)
-        q_in = torch.cat([obs, action], 1)
-        q1 = qf1(q_in).squeeze(-1)
-        q2 = qf2(q_in).squeeze(-1)
-        q_loss = nn.functional.mse_loss(q1, y) + nn.functional.mse_loss(q2, y)
+        q_in = torch.cat([x, action], 1)
+        q1 = forward(qf1, q_in, task).squeeze(-1)
+        q2 = forward(qf2, q_in, task).squeeze(-1)
+        extreme = None
+        if weights is None and not paco_resets:
+            q_loss = nn.functional.mse_loss(q1, y) + nn.functional.mse_loss(q2, y)
+        else:
+            per_sample = (q1 - y).pow(2) + (q2 - y).pow(2)
+            if paco_resets:
+                with torch.no_grad():
+                    sums = torch.zeros(num_tasks).index_add_(0, task, per_sample)
+                    counts = torch.bincount(task, minlength=num_tasks).clamp(min=1)
+                    extreme = (sums / counts > args.paco_reset_threshold).nonzero().flatten()
+                if len(extreme) > 0:  # mask those tasks out of this update (rare)
+                    keep = torch.ones(num_tasks)
+                    keep[extreme] = 0.0
+                    weights = keep[task] if weights is None else weights * keep[task]
+            q_loss = (per_sample if weights is None else per_sample * weights).mean()
         q_optimizer.zero_grad()
         q_loss.backward()
         q_optimizer.step()
@@ -138,10 +462,13 @@ def main():
         if args.no_critic_weight_grads:
             for p in q_params:
                 p.requires_grad_(False)
-        pi, log_prob = sample(obs)
-        pi_in = torch.cat([obs, pi], 1)
-        min_q_pi = torch.min(qf1(pi_in), qf2(pi_in)).squeeze(-1)
-        actor_loss = (alpha * log_prob - min_q_pi).mean()
+        pi, log_prob = sample(x, task)
+        pi_in = torch.cat([x, pi], 1)
+        min_q_pi = torch.min(forward(qf1, pi_in, task), forward(qf2, pi_in, task)).squeeze(-1)
+        if weights is None:
+            actor_loss = (alpha * log_prob - min_q_pi).mean()
+        else:
+            actor_loss = ((alpha * log_prob - min_q_pi) * weights).mean()
         actor_optimizer.zero_grad()
         actor_loss.backward()
         actor_optimizer.step()
@@ -149,11 +476,17 @@ def main():
             for p in q_params:
                 p.requires_grad_(True)
 
-        alpha_loss = (-log_alpha.exp() * (log_prob.detach() + target_entropy)).mean()
+        if disentangled:
+            alpha_loss = (-log_alpha[task].exp() * (log_prob.detach() + target_entropy)).mean()
+        else:
+            alpha_loss = (-log_alpha.exp() * (log_prob.detach() + target_entropy)).mean()
         a_optimizer.zero_grad()
         alpha_loss.backward()
         a_optimizer.step()
 
+        if extreme is not None and len(extreme) > 0:
+            reset_task_weights(extreme)
+            paco_reset_count[0] += len(extreme)
         with torch.no_grad():
             if args.foreach:
                 torch._foreach_mul_(targets, 1 - tau)
@@ -163,11 +496,20 @@ def main():
                     tp.mul_(1 - tau).add_(p, alpha=tau)
 
     g = torch.Generator().manual_seed(args.seed + 1)
-    batches = [(torch.randn(b, o, generator=g),
-                torch.rand(b, a, generator=g) * 2 - 1,
-                torch.randn(b, generator=g),
-                torch.randn(b, o, generator=g),
-                (torch.rand(b, generator=g) < 0.01).float()) for _ in range(4)]
+
+    def random_batch():
+        obs, act = torch.randn(b, o, generator=g), torch.rand(b, a, generator=g) * 2 - 1
+        reward, next_obs = torch.randn(b, generator=g), torch.randn(b, o, generator=g)
+        done = (torch.rand(b, generator=g) < 0.01).float()
+        task = (torch.randint(num_tasks, (b,), generator=g) if num_tasks > 1
+                else torch.zeros(b, dtype=torch.int64))
+        return obs, act, reward, next_obs, done, task
+
+    batches = [random_batch() for _ in range(4)]
+    if args.check:
+        check(args, torch, actor, qf1, qf2, width, a, batches, update,
+              paco_reset_count if paco_resets else None)
+        return
     for i in range(3):
         update(batches[i % 4])
     samples = []
@@ -176,7 +518,7 @@ def main():
         for i in range(args.updates):
             update(batches[i % 4])
         samples.append(args.updates / (time.perf_counter() - t0))
-    print(json.dumps({
+    result = {
         "peer": "pytorch-python-sac",
         "python": sys.version.split()[0],
         "torch": torch.__version__,
@@ -190,7 +532,85 @@ def main():
         "updates_per_s": statistics.median(samples),
         "ms_per_update": 1000.0 / statistics.median(samples),
         "samples": samples,
-    }))
+    }
+    if multitask:
+        result.update(architecture=arch, tasks=num_tasks, disentangled_alpha=disentangled,
+                      task_reweight=reweight, paco_reset_threshold=(
+                          args.paco_reset_threshold if arch == "paco" else None),
+                      paco_resets=paco_reset_count[0],
+                      params={"actor": count(actor), "critics": count(qf1) + count(qf2)})
+    print(json.dumps(result))
+
+
+def count(module):
+    return sum(p.numel() for p in module.parameters())
+
+
+def check(args, torch, actor, qf1, qf2, inp, a, batches, update, paco_reset_count):
+    """--check: shapes, task dependence, the architectures' invariants, finite parameters after
+    two updates, parameter counts against manyworlds' layout. Prints JSON; raises on failure."""
+    import json
+
+    arch, t = args.architecture, args.tasks
+    obs, action, _, _, _, task = batches[0]
+    b = obs.size(0)
+    if arch == "mlp" and t > 1:
+        x = torch.cat([obs, torch.nn.functional.one_hot(task, t).float()], 1)
+    else:
+        x = obs
+    report = {"architecture": arch, "tasks": t, "params": {}, "checks": []}
+    with torch.no_grad():
+        for name, module, width, out in (("actor", actor, inp, 2 * a),
+                                         ("critic", qf1, inp + a, 1)):
+            xi = x if name == "actor" else torch.cat([x, action], 1)
+            y = module(xi) if arch == "mlp" else module(xi, task)
+            assert y.shape == (b, out), f"{name}: output {tuple(y.shape)}, expected {(b, out)}"
+            report["checks"].append(f"{name} output {tuple(y.shape)}")
+            if t > 1:
+                other = (task + 1) % t
+                if arch == "mlp":
+                    xo = torch.cat([obs, torch.nn.functional.one_hot(other, t).float()], 1)
+                    if name == "critic":
+                        xo = torch.cat([xo, action], 1)
+                    yo = module(xo)
+                else:
+                    yo = module(xi, other)
+                diff = (y - yo).abs().max().item()
+                assert diff > 0, f"{name}: the output does not depend on the task"
+                report["checks"].append(
+                    f"{name} output changes with the task (max |diff| {diff:.3g})")
+            cpp = cpp_layout_params(args, width - (t if arch == "mlp" and t > 1 else 0), out)
+            ours = count(module)
+            report["params"][name] = {"pytorch": ours, "manyworlds_layout": cpp}
+            assert ours == cpp, f"{name}: {ours} parameters, manyworlds' layout has {cpp}"
+        report["params"]["twin_critics"] = {
+            "pytorch": count(qf1) + count(qf2),
+            "manyworlds_layout": 2 * report["params"]["critic"]["manyworlds_layout"]}
+        if arch == "moore":
+            basis = actor.basis(obs)
+            gram = basis @ basis.transpose(1, 2)
+            err = (gram - torch.eye(args.num_experts)).abs().max().item()
+            assert err < 1e-4, f"moore: basis not orthonormal ({err})"
+            report["checks"].append(f"moore basis orthonormal (max |B B^T - I| {err:.2g})")
+        if arch == "soft_modular":
+            probs = actor.routing(actor.base(obs), task)
+            err = max((p.sum(-1) - 1).abs().max().item() for p in probs)
+            assert err < 1e-5 and len(probs) == args.module_layers
+            report["checks"].append(f"soft_modular routing: {len(probs)} softmaxes, rows sum to 1")
+            if t > 1:  # at initialisation (logits U(+-3e-3)) the output barely moves; routing does
+                other = actor.routing(actor.base(obs), (task + 1) % t)
+                diff = max((p - q).abs().max().item() for p, q in zip(probs, other))
+                assert diff > 0, "soft_modular: routing does not depend on the task"
+                report["checks"].append(f"soft_modular routing changes with the task "
+                                        f"(max |diff| {diff:.3g})")
+    for k in range(2):
+        update(batches[k])
+    if paco_reset_count is not None:
+        report["paco_resets"] = paco_reset_count[0]
+    for name, module in (("actor", actor), ("critic 1", qf1), ("critic 2", qf2)):
+        assert all(torch.isfinite(p).all() for p in module.parameters()), f"{name}: not finite"
+    report["checks"].append("all parameters finite after 2 updates")
+    print(json.dumps(report, indent=1))
 
 
 if __name__ == "__main__":
