@@ -10,6 +10,7 @@
 
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/mlp.h"
 #include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
 
@@ -212,6 +213,43 @@ TEST(SacMultiTaskTest, PacoMasksAndResetsATaskWhoseLossExplodes) {
   c.paco_reset_threshold = 0.0;
   SacLearner off(c, 4, 2, 3);
   EXPECT_FALSE(off.Update(batch).Contains("paco_resets"));
+}
+
+TEST(SacMultiTaskTest, TaskMetadataVectorsReplaceTheLearnedTableAndTravelInCheckpoints) {
+  SacConfig c = Tiny("moe");
+  c.task_metadata = "vectors.json";  // read by the caller; the learner takes the tensor
+  const torch::Tensor vectors = torch::randn({3, 7}, at::detail::createCPUGenerator(2));
+  EXPECT_THROW(SacLearner(c, 4, 2, 3), ConfigError);  // set but no vectors given
+  SacLearner a(c, 4, 2, 3, vectors);
+  ASSERT_TRUE(torch::equal(a.task_encoder()->pretrained(), vectors));
+  // Encode is the projection of the fixed vectors: P -> ReLU -> Linear -> ReLU
+  // -> Linear -> ReLU -> MLP.
+  const std::vector<torch::Tensor>& p = a.task_encoder()->detached_params();
+  torch::Tensor h = torch::relu(vectors);
+  h = torch::relu(torch::addmm(p[1], h, p[0]));
+  h = torch::relu(torch::addmm(p[3], h, p[2]));
+  std::vector<torch::Tensor> mlp(p.begin() + 4, p.end());
+  EXPECT_TRUE(torch::allclose(a.task_encoder()->Encode(p), nn::MlpForward(h, mlp), 1e-6, 1e-6));
+  for (int i = 0; i < 3; ++i) a.Update(RandomBatch(12, 4, 2, 3, i));
+  EXPECT_TRUE(torch::equal(a.task_encoder()->pretrained(), vectors));  // never trained
+  const std::string bytes = Archive(a);
+  SacLearner b(c, 4, 2, 3, vectors);
+  Restore(b, bytes);
+  const Batch batch = RandomBatch(12, 4, 2, 3, 9);
+  EXPECT_EQ(a.Update(batch).Get("critic_loss"), b.Update(batch).Get("critic_loss"));
+  // Other vectors, or none, are refused with the reason.
+  SacLearner other(c, 4, 2, 3, vectors + 1.0f);
+  try {
+    Restore(other, bytes);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("task metadata vectors differ"), std::string::npos)
+        << e.what();
+  }
+  SacLearner plain(Tiny("moe"), 4, 2, 3);
+  EXPECT_THROW(Restore(plain, bytes), Error);
+  c.architecture = "mlp";
+  EXPECT_THROW(c.Validate(), ConfigError);  // only task_encoder and moe read it
 }
 
 TEST(SacMultiTaskTest, ActTakesTaskIndices) {
@@ -443,6 +481,18 @@ TEST(SacBanditTest, TaskEncoderSolvesTheThreeTaskBandit) {
   ExpectSolvesBandit("task_encoder", false);
 }
 TEST(SacBanditTest, MoeSolvesTheThreeTaskBandit) { ExpectSolvesBandit("moe", false); }
+TEST(SacBanditTest, CareWithTaskVectorsSolvesTheThreeTaskBandit) {
+  SacConfig c = BanditConfig("moe");
+  c.task_metadata = "vectors";
+  // Three fixed unit vectors stand for the embedded descriptions.
+  const torch::Tensor vectors = torch::nn::functional::normalize(
+      torch::randn({3, 16}, at::detail::createCPUGenerator(11)),
+      torch::nn::functional::NormalizeFuncOptions().dim(1));
+  SacLearner sac(c, 1, 1, 3, vectors);
+  TrainBandit(sac, /*hide_task=*/false);
+  const torch::Tensor act = sac.Act(torch::ones({3, 1}), torch::arange(3, torch::kInt64), true);
+  for (int t = 0; t < 3; ++t) EXPECT_NEAR(act[t][0].item<float>(), kTargets[t], 0.08f) << t;
+}
 TEST(SacBanditTest, PcGradSolvesTheThreeTaskBandit) { ExpectSolvesBandit("mlp", true); }
 // With the bandit's constant observation, 2 modules per layer left tasks 1
 // and 2 with identical routing (their embedding units dead under the ReLU)

@@ -12,10 +12,12 @@ const std::vector<std::string>& TaskConditioningArchitectures() {
 }
 
 TaskEncoderOptions ConditioningTaskEncoderOptions(int64_t num_tasks, int64_t embedding_dim) {
-  return {.num_tasks = num_tasks,
-          .embedding_dim = embedding_dim,
-          .hidden_dim = embedding_dim,
-          .output_dim = embedding_dim};
+  TaskEncoderOptions options;
+  options.num_tasks = num_tasks;
+  options.embedding_dim = embedding_dim;
+  options.hidden_dim = embedding_dim;
+  options.output_dim = embedding_dim;
+  return options;
 }
 
 MixtureEncoderOptions ConditioningMixtureOptions(int64_t obs_dim, int64_t embedding_dim,

@@ -23,7 +23,24 @@ TaskEncoderImpl::TaskEncoderImpl(const TaskEncoderOptions& options,
   RequirePositive(options.num_tasks, "TaskEncoder", "num_tasks");
   RequirePositive(options.embedding_dim, "TaskEncoder", "embedding_dim");
   RequirePositive(options.output_dim, "TaskEncoder", "output_dim");
-  std::vector<ParamSpec> specs = {{"embedding", {options.num_tasks, options.embedding_dim}}};
+  const bool pretrained = options.pretrained.defined();
+  if (pretrained && (options.pretrained.dim() != 2 ||
+                     options.pretrained.size(0) != options.num_tasks ||
+                     options.pretrained.size(1) <= 0)) {
+    throw ConfigError("TaskEncoder: pretrained task vectors must be (" +
+                      std::to_string(options.num_tasks) + ", D)");
+  }
+  if (pretrained) options_.pretrained = options.pretrained.to(torch::kFloat32).contiguous();
+  const int64_t e = options.embedding_dim;
+  std::vector<ParamSpec> specs;
+  if (pretrained) {
+    const int64_t d = options.pretrained.size(1);
+    specs = {{"proj0_w", {d, 2 * e}}, {"proj0_b", {2 * e}}, {"proj1_w", {2 * e, e}},
+             {"proj1_b", {e}}};
+  } else {
+    specs = {{"embedding", {options.num_tasks, e}}};
+  }
+  const size_t head = specs.size();
   MlpOptions mlp;
   mlp.input_dim = options.embedding_dim;
   mlp.output_dim = options.output_dim;
@@ -33,8 +50,12 @@ TaskEncoderImpl::TaskEncoderImpl(const TaskEncoderOptions& options,
   InitFlat(std::move(specs));
   torch::NoGradGuard no_grad;
   const std::vector<torch::Tensor>& views = detached_params();
-  views[0].copy_(torch::randn(views[0].sizes(), generator, torch::kFloat32));
-  InitMlpParams(at::ArrayRef<torch::Tensor>(views).slice(1), generator);
+  if (pretrained) {
+    InitMlpParams(at::ArrayRef<torch::Tensor>(views).slice(0, head), generator);
+  } else {
+    views[0].copy_(torch::randn(views[0].sizes(), generator, torch::kFloat32));
+  }
+  InitMlpParams(at::ArrayRef<torch::Tensor>(views).slice(head), generator);
 }
 
 torch::Tensor TaskEncoderImpl::Encode(at::ArrayRef<torch::Tensor> params) const {
@@ -42,7 +63,11 @@ torch::Tensor TaskEncoderImpl::Encode(at::ArrayRef<torch::Tensor> params) const 
     throw Error("TaskEncoder: expects " + std::to_string(this->params().size()) +
                 " parameter tensors, got " + std::to_string(params.size()));
   }
-  return MlpForward(torch::relu(params[0]), params.slice(1));
+  if (!options_.pretrained.defined()) return MlpForward(torch::relu(params[0]), params.slice(1));
+  torch::Tensor h = torch::relu(options_.pretrained);
+  h = torch::relu(torch::addmm(params[1], h, params[0]));
+  h = torch::relu(torch::addmm(params[3], h, params[2]));
+  return MlpForward(h, params.slice(4));
 }
 
 MixtureEncoderImpl::MixtureEncoderImpl(const MixtureEncoderOptions& options,

@@ -3,7 +3,10 @@
 // agent/components/moe_layer.py).
 //
 // TaskEncoder: Embedding(num_tasks, embedding_dim) -> ReLU -> MLP, one
-// encoding per task. Encode() computes all num_tasks encodings at once (a
+// encoding per task. With pretrained vectors (CARE's task metadata: one
+// fixed vector per task, e.g. an embedded description) the table is frozen
+// and a learned projection maps it to embedding_dim first, as MTRL does:
+// P -> ReLU -> Linear(D, 2E) -> ReLU -> Linear(2E, E) -> ReLU -> MLP. Encode() computes all num_tasks encodings at once (a
 // tiny product); callers pick rows with the task index.
 //
 // MixtureEncoder: num_experts state encoders (MLPs of the same shape, run as
@@ -31,6 +34,8 @@ struct TaskEncoderOptions {
   int64_t hidden_dim = 50;
   int64_t num_layers = 2;  // hidden layers of the MLP after the embedding
   int64_t output_dim = 50;
+  // (num_tasks, D) float: fixed task vectors in place of the learned table.
+  torch::Tensor pretrained;
 };
 
 class TaskEncoderImpl : public FlatModule {
@@ -44,8 +49,11 @@ class TaskEncoderImpl : public FlatModule {
   torch::Tensor forward() { return Encode(params()); }
   torch::Tensor Encode(at::ArrayRef<torch::Tensor> params) const;
 
-  // The embedding table (num_tasks, embedding_dim), a parameter view.
+  // The learned embedding table (num_tasks, embedding_dim), a parameter
+  // view; with pretrained vectors, the first projection's weight.
   const torch::Tensor& embedding() const { return params()[0]; }
+  // The fixed task vectors (undefined unless pretrained).
+  const torch::Tensor& pretrained() const { return options_.pretrained; }
   const TaskEncoderOptions& options() const { return options_; }
 
  private:

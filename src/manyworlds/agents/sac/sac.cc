@@ -101,7 +101,7 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
 }
 
 SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
-                       int64_t num_tasks)
+                       int64_t num_tasks, const torch::Tensor& task_metadata)
     : config_(Validated(config)),
       arch_(static_cast<Arch>(std::min<int64_t>(ArchCode(config.architecture),
                                                 static_cast<int64_t>(Arch::kTaskTrunk)))),
@@ -129,9 +129,16 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   // Encoders first (fixed order of draws from the generator: task encoder,
   // mixture encoder, actor, critics).
   const int64_t embed = config.task_embedding_dim;
+  if (config.task_metadata.empty() != !task_metadata.defined()) {
+    throw ConfigError(config.task_metadata.empty()
+                          ? "SacLearner: task vectors given, but agent.task_metadata is empty"
+                          : "SacLearner: agent.task_metadata is set, but no task vectors were "
+                            "read from it");
+  }
   if (arch_ == Arch::kTaskEncoder || arch_ == Arch::kMoe) {
-    task_encoder_ =
-        nn::TaskEncoder(nn::ConditioningTaskEncoderOptions(num_tasks, embed), generator_);
+    nn::TaskEncoderOptions encoder = nn::ConditioningTaskEncoderOptions(num_tasks, embed);
+    encoder.pretrained = task_metadata;
+    task_encoder_ = nn::TaskEncoder(encoder, generator_);
     task_encoder_optimizer_ =
         nn::FlatAdam(task_encoder_->num_params(), Adam(config, config.actor_lr));
   }
@@ -610,6 +617,9 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
 void SacLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("architecture", torch::tensor(arch_code_, torch::kInt64));
   archive.write("num_tasks", torch::tensor(num_tasks_, torch::kInt64));
+  if (task_encoder_ && task_encoder_->pretrained().defined()) {
+    archive.write("task_metadata", task_encoder_->pretrained());
+  }
   TransferNetworks(archive, *this);
   WriteProgress(archive, num_updates_, generator_);
 }
@@ -628,6 +638,22 @@ void SacLearner::Load(torch::serialize::InputArchive& archive) {
     throw Error("SacLearner::Load: checkpoint is architecture '" + saved + "' with " +
                 std::to_string(tasks.item<int64_t>()) + " tasks, this learner '" +
                 config_.architecture + "' with " + std::to_string(num_tasks_));
+  }
+  torch::Tensor saved_metadata;
+  const bool has_metadata = archive.try_read("task_metadata", saved_metadata);
+  const torch::Tensor mine =
+      task_encoder_ ? task_encoder_->pretrained() : torch::Tensor();
+  if (has_metadata != mine.defined() ||
+      (has_metadata && (saved_metadata.sizes() != mine.sizes() ||
+                        !torch::equal(saved_metadata, mine)))) {
+    throw Error(std::string("SacLearner::Load: ") +
+                (has_metadata && mine.defined()
+                     ? "the checkpoint's task metadata vectors differ from this learner's "
+                       "(agent.task_metadata changed?)"
+                 : has_metadata ? "the checkpoint was trained with task metadata vectors, this "
+                                  "learner has none (agent.task_metadata)"
+                                : "the checkpoint was trained without task metadata, this "
+                                  "learner has some (agent.task_metadata)"));
   }
   TransferNetworks(archive, *this);
   ReadProgress(archive, num_updates_, generator_);

@@ -87,9 +87,12 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
 
 class SacLearner : public OffPolicyLearner, public Actor {
  public:
-  // Validates the config (ConfigError) and the dims (> 0).
+  // Validates the config (ConfigError) and the dims (> 0). task_metadata:
+  // (num_tasks, D) fixed task vectors, required when config.task_metadata is
+  // set (the caller reads the file: experiments' LoadTaskMetadata) and saved
+  // in checkpoints (Load refuses other vectors).
   SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
-             int64_t num_tasks = 1);
+             int64_t num_tasks = 1, const torch::Tensor& task_metadata = {});
   // A copy would share the networks (module holders are shared pointers).
   SacLearner(const SacLearner&) = delete;
   SacLearner& operator=(const SacLearner&) = delete;

@@ -69,6 +69,9 @@ void SacConfig::Validate() const {
           num_param_sets);
   Require(!std::isnan(paco_reset_threshold), "paco_reset_threshold", "a number",
           paco_reset_threshold);
+  Require(task_metadata.empty() || architecture == "task_encoder" || architecture == "moe",
+          "task_metadata", "empty unless architecture is task_encoder or moe (it replaces their "
+          "learned task table)", "'" + task_metadata + "' with architecture " + architecture);
   Require(!task_reweight || disentangled_alpha, "task_reweight",
           "false unless disentangled_alpha is true (it weighs tasks by their own temperatures)",
           task_reweight);

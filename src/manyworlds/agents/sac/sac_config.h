@@ -36,6 +36,11 @@
 // and its task weights in the actor and critic are reset to a random convex
 // combination of the other tasks' (`mask_extreme_task`,
 // `reset_task_method="interpolate"`); <= 0 disables.
+// task_metadata (CARE): a JSON file of fixed task vectors, e.g. embedded
+// task descriptions (data/task_descriptions/metaworld_embeddings.json, its
+// "tasks" object: task name -> {"embedding": [...]}); the task encoder of
+// "task_encoder" and "moe" then starts from each task's vector instead of a
+// learned table (nn/task_encoder.h). Empty: the learned table.
 // pcgrad: per-task gradients of the critic and actor losses combined by
 // PCGrad (nn/pcgrad.h) before the fused Adam steps.
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
@@ -93,6 +98,7 @@ struct SacConfig {
   int64_t num_param_sets = 5;           // paco (its MT10 config: 5)
   double paco_reset_threshold = 3000.0;  // paco (its MT10 config: task_loss_threshold 3e3)
   bool task_reweight = false;
+  std::string task_metadata;  // task_encoder, moe: CARE's task metadata file
 
   // Data-parallel updates: each update splits its batch into update_shards
   // parts whose gradients are computed at once on update_threads threads
@@ -114,7 +120,8 @@ struct SacConfig {
                             critic_target_update_freq, max_critic_loss, seed, architecture,
                             task_embedding_dim, num_experts, encoder_dim, pcgrad, num_modules,
                             module_layers, module_hidden, routing_layers, routing_hidden,
-                            num_param_sets, paco_reset_threshold, task_reweight, update_shards,
+                            num_param_sets, paco_reset_threshold, task_reweight, task_metadata,
+                            update_shards,
                             update_threads);
   }
   // Throws ConfigError naming the first bad field and its allowed range.

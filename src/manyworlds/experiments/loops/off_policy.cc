@@ -23,6 +23,7 @@
 #include "manyworlds/experiments/loops/loops.h"
 #include "manyworlds/experiments/metric_means.h"
 #include "manyworlds/experiments/run/checkpoint_io.h"
+#include "manyworlds/experiments/task_metadata.h"
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::experiments {
@@ -62,8 +63,11 @@ class OffPolicyAlgorithm : public Algorithm {
                         "an update of " + std::to_string(batch_size_) + " rows",
                         "agent.batch_size (rows per task; experiment.batch_size: in all) or "
                         "agent.hidden_dim");
+    const torch::Tensor task_metadata =
+        agent.task_metadata.empty() ? torch::Tensor()
+                                    : LoadTaskMetadata(agent.task_metadata, s.tasks);
     learner_ = std::make_unique<agents::SacLearner>(agent, facts_.obs_dim, facts_.action_dim,
-                                                    num_tasks_);
+                                                    num_tasks_, task_metadata);
     replay_ = std::make_unique<agents::ReplayBuffer>(config_.replay.capacity, facts_.obs_dim,
                                                      facts_.action_dim, num_tasks_);
     replay_generator_ = rl::MakeGenerator(MixSeed(seed, kReplayStream));
