@@ -62,7 +62,7 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       ->check(AtLeastOne(100000));
   cmd->add_option("--batch", args->sizes.batch,
                   "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials; pearl: RL "
-                  "transitions per task)")
+                  "transitions per task; distral: rows per task agent)")
       ->capture_default_str()
       ->check(AtLeastOne(1000000));
   cmd->add_option("--minibatch", args->sizes.minibatch,

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/agents/distral/distral.h"
 #include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/pearl/pearl.h"
 #include "manyworlds/agents/ppo/ppo.h"
@@ -421,6 +422,60 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
           << " (" << threads.blas << "; kernels " << threads.blas_core << ")\nsamples:";
   for (double s : r.samples) summary << " " << Fixed(s, 1);
   summary << "\n";
+  result.summary = summary.str();
+  return result;
+}
+
+}  // namespace manyworlds::experiments
+
+namespace manyworlds::experiments {
+
+AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  CheckBenchMemory(args, static_cast<double>(args.batch) * args.tasks);
+  agents::DistralConfig config;
+  config.hidden_dim = args.hidden;
+  config.num_layers = args.layers;
+  config.seed = args.seed;
+  ApplyThreads(args);
+  agents::DistralLearner learner(config, args.obs_dim, args.action_dim, args.tasks);
+  // Four random batches of --batch rows per task, cycled, so that data
+  // generation is not timed.
+  at::Generator gen = at::detail::createCPUGenerator(args.seed + 1);
+  const int64_t b = static_cast<int64_t>(args.batch) * args.tasks;
+  std::vector<agents::Batch> batches;
+  for (int i = 0; i < 4; ++i) {
+    agents::Batch batch;
+    batch.obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
+    batch.action = torch::rand({b, args.action_dim}, gen, torch::kFloat32) * 2.0 - 1.0;
+    batch.reward = torch::randn({b}, gen, torch::kFloat32);
+    batch.next_obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
+    batch.done = torch::zeros({b});
+    batch.task_index = torch::arange(b, torch::kInt64) % args.tasks;
+    batches.push_back(std::move(batch));
+  }
+  int next = 0;
+  const std::vector<double> rates =
+      TimeRepeats(args, 3, [&] { learner.Update(batches[static_cast<size_t>(next++ % 4)]); });
+  const double median = Median(rates);
+  AgentBenchResult result;
+  result.json = nlohmann::json({{"agent", algo},
+                                {"tasks", args.tasks},
+                                {"batch_per_task", args.batch},
+                                {"hidden", args.hidden},
+                                {"layers", args.layers},
+                                {"obs_dim", args.obs_dim},
+                                {"action_dim", args.action_dim},
+                                {"unit", "one update (every task agent's SAC update, one "
+                                         "distillation step)"},
+                                {"updates_per_s", median},
+                                {"ms_per_update", 1000.0 / median},
+                                {"updates", rates},
+                                {"threads", ThreadsJson()}});
+  std::ostringstream summary;
+  summary << algo << ": " << Fixed(median, 2) << " updates/s, " << Fixed(1000.0 / median, 2)
+          << " ms/update (median of " << rates.size() << " repeats of " << args.updates << "); "
+          << args.tasks << " task agents x " << args.batch << " rows, " << args.layers << " x "
+          << args.hidden << ", obs " << args.obs_dim << ", action " << args.action_dim << "\n";
   result.summary = summary.str();
   return result;
 }

@@ -51,6 +51,7 @@ AgentBenchResult BenchTePpoUpdates(const std::string& algo, const AgentBenchSize
 AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 
 // ConfigError (CheckMemoryEstimate) if an update on `rows` rows at these
 // sizes cannot fit in memory; called before a learner is built.

@@ -3,6 +3,7 @@
 #include <memory>
 #include <utility>
 
+#include "manyworlds/agents/distral/distral.h"
 #include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/pearl/pearl_config.h"
 #include "manyworlds/agents/ppo/ppo.h"
@@ -52,7 +53,7 @@ const std::vector<AlgorithmInfo>& Algorithms() {
           "sac", F::kOffPolicy, false, true,
           "soft actor-critic and its multi-task variants (MT-SAC, multi-head, task encoder, "
           "CARE mixture of encoders, PCGrad)",
-          &MakeOffPolicyAlgorithm, &BenchSacUpdates),
+          &MakeSacAlgorithm, &BenchSacUpdates),
       Row<agents::PpoConfig>("ppo", F::kOnPolicy, true, true,
                              "proximal policy optimisation (MT-PPO with several tasks)",
                              &MakeOnPolicy<agents::PpoLearner, agents::PpoConfig>,
@@ -80,6 +81,12 @@ const std::vector<AlgorithmInfo>& Algorithms() {
           "PEARL meta-RL: SAC conditioned on a latent task variable inferred by a context "
           "encoder (product of Gaussians), per-task replay (oyster's PEARL)",
           &MakePearlAlgorithm, &BenchPearlUpdates),
+      Row<agents::DistralConfig>(
+          "distral", F::kOffPolicy, false, true,
+          "Distral: one SAC agent per task regularised towards a distilled central policy "
+          "(KL weight distral_alpha, entropy weight the learned temperature; Teh et al. 2017, "
+          "MTRL's distral)",
+          &MakeDistralAlgorithm, &BenchDistralUpdates),
   };
   return list;
 }

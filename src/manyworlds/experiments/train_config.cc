@@ -255,8 +255,14 @@ nlohmann::json TrainConfig::ToJson() const {
 }
 
 int64_t TrainConfig::TotalBatchSize(int64_t num_tasks) const {
-  return experiment.batch_size > 0 ? experiment.batch_size
-                                   : agent.as<agents::SacConfig>().batch_size * num_tasks;
+  if (experiment.batch_size > 0) return experiment.batch_size;
+  // The off-policy agents' batch_size key: rows per task.
+  const nlohmann::json params = agent.params().ToJson();
+  if (!params.contains("batch_size") || !params["batch_size"].is_number_integer()) {
+    throw ConfigError("agent.algo '" + agent.algo() +
+                      "' has no batch_size; set experiment.batch_size");
+  }
+  return params["batch_size"].get<int64_t>() * num_tasks;
 }
 
 // Upper bounds: every count the loops multiply stays far from int64

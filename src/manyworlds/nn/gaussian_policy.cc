@@ -40,7 +40,7 @@ SquashedSample SquashedGaussianFromNoise(const torch::Tensor& mean, const torch:
   // log N(u) written with eps directly: (u - mean) / std is exactly eps.
   const double half_log_2pi = 0.5 * std::log(2.0 * std::numbers::pi);
   torch::Tensor log_prob = (-0.5 * eps.square() - log_std - half_log_2pi).sum(-1);
-  return {torch::tanh(u), log_prob - TanhLogAbsDetJacobian(u)};
+  return {torch::tanh(u), log_prob - TanhLogAbsDetJacobian(u), u};
 }
 
 GaussianPolicyImpl::GaussianPolicyImpl(const GaussianPolicyOptions& options,

@@ -41,6 +41,7 @@ torch::Tensor BoundLogStd(const torch::Tensor& raw, double log_std_min, double l
 struct SquashedSample {
   torch::Tensor action;    // (B, A), tanh(u)
   torch::Tensor log_prob;  // (B), log-density of action
+  torch::Tensor pre_tanh;  // (B, A), u (another policy's density of the action needs it)
 };
 
 // Reparameterised sample (u = mean + std * eps, differentiable in mean and

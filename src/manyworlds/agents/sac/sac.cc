@@ -380,6 +380,13 @@ torch::Tensor SacLearner::CriticTargetWith(const Batch& batch, const torch::Tens
       actor_->Forward(actor_in, heads, actor_->trunk()->detached_params());
   const nn::SquashedSample sample = nn::SquashedGaussianFromNoise(next.mean, next.log_std, eps);
   const torch::Tensor q = critic_->TargetQ(critic_in, sample.action, heads);  // (2, B)
+  if (prior_.log_prob) {
+    // min Q' - (alpha + c) log pi + c log pi_0
+    return SoftTdTarget(batch.reward, batch.done,
+                        torch::minimum(q[0], q[1]) +
+                            prior_.weight * prior_.log_prob(batch.next_obs, sample.pre_tanh),
+                        sample.log_prob, alpha + prior_.weight, config_.discount);
+  }
   return SoftTdTarget(batch.reward, batch.done, torch::minimum(q[0], q[1]), sample.log_prob,
                       alpha, config_.discount);
 }
@@ -510,6 +517,9 @@ Metrics SacLearner::Update(const Batch& batch) {
           critic_->Q(x, pi.action, heads, critic_->online()->detached_params());
       torch::Tensor per_sample =
           RowsOf(alpha, lo, n, b) * pi.log_prob - torch::minimum(q_pi[0], q_pi[1]);
+      if (prior_.log_prob) {
+        per_sample = per_sample + prior_.weight * (pi.log_prob - prior_.log_prob(obs, pi.pre_tanh));
+      }
       if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
       const torch::Tensor loss = per_sample.sum() / static_cast<double>(b);
       actor_loss_part[s] = loss.item<double>();

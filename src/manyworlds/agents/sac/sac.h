@@ -54,6 +54,14 @@
 // noise is drawn for the whole batch before the split, so an update depends
 // on update_shards but not on the number of threads.
 //
+// A prior (SetPrior; Distral's distilled policy) regularises the policy
+// towards another one, pi_0, with weight c = prior.weight: the soft value
+// becomes min Q - (alpha + c) log pi + c log pi_0 (the reward regulariser
+// c log(pi_0 / pi) - alpha log pi of Teh et al. 2017, with the entropy
+// weight alpha the learned temperature), and the actor loss
+// (alpha + c) log pi(a|s) - c log pi_0(a|s) - min Q(s, a), gradients
+// reaching pi_0's density through the reparameterised action only.
+//
 // The learner calls nn::ConfigureTorchThreads() (see nn/threads.h). Not
 // thread-safe.
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_H_
@@ -62,6 +70,7 @@
 #include <torch/torch.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -84,6 +93,14 @@ namespace manyworlds::agents {
 torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& done,
                            const torch::Tensor& next_q, const torch::Tensor& next_log_prob,
                            const torch::Tensor& alpha, double discount);
+
+// Another policy's log-density of squashed actions a = tanh(u) at raw
+// observations obs (B, obs_dim), u (B, A) -> (B); differentiable in u.
+// Called from several threads at once when updates are sharded.
+struct PolicyPrior {
+  double weight = 0.0;
+  std::function<torch::Tensor(const torch::Tensor& obs, const torch::Tensor& u)> log_prob;
+};
 
 class SacLearner : public OffPolicyLearner, public Actor {
  public:
@@ -116,6 +133,9 @@ class SacLearner : public OffPolicyLearner, public Actor {
   ActOutput Act(const torch::Tensor& obs, const torch::Tensor& task_index, ActorState& state,
                 ActMode mode) override;
   Actor& AsActor() override { return *this; }
+
+  // Regularises towards `prior` from the next update on (see the top).
+  void SetPrior(PolicyPrior prior) { prior_ = std::move(prior); }
 
   // The critic target y (B) of step 1, drawing a' from this learner's
   // generator. Exposed for tests and diagnostics.
@@ -236,6 +256,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   nn::FlatAdam task_encoder_optimizer_;
   nn::FlatAdam encoder_optimizer_;
   int64_t num_updates_ = 0;
+  PolicyPrior prior_;
   std::vector<ShardReplicas> replicas_;  // one per shard after the first
   std::unique_ptr<nn::WorkerPool> pool_;
 };

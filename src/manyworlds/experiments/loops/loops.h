@@ -6,6 +6,7 @@
 #define MANYWORLDS_EXPERIMENTS_LOOPS_LOOPS_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "manyworlds/agents/learner.h"
@@ -15,7 +16,20 @@
 
 namespace manyworlds::experiments {
 
-std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup);
+// The off-policy loop around the learner make_learner builds; size (the
+// learner's widest networks) sizes the memory check made before it is built.
+struct OffPolicyNetworkSize {
+  int64_t hidden_dim = 0;
+  int64_t num_layers = 0;
+};
+using OffPolicyLearnerFactory =
+    std::function<std::unique_ptr<agents::OffPolicyLearner>(const AlgorithmSetup& setup)>;
+std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup,
+                                                  const OffPolicyNetworkSize& size,
+                                                  const OffPolicyLearnerFactory& make_learner);
+// The registry's rows: SAC (and its variants), Distral.
+std::unique_ptr<Algorithm> MakeSacAlgorithm(const AlgorithmSetup& setup);
+std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakePearlAlgorithm(const AlgorithmSetup& setup);
 // The on-policy loop around `learner`, collecting `rounds` rounds of every
 // env per update.

@@ -1,5 +1,5 @@
-// The off-policy family's loop (MTRL's multi-task SAC loop). Each step of a
-// round:
+// The off-policy family's loop (MTRL's multi-task SAC loop) around any
+// OffPolicyLearner (SAC and its variants, Distral). Each step of a round:
 //  1. actions: uniform random in (-1, 1) during the first warmup_steps steps,
 //     then sampled from the learner (one batched forward pass, inference mode);
 //  2. step the envs; store one transition per env with done = terminated (a
@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/agents/distral/distral.h"
 #include "manyworlds/agents/replay_buffer.h"
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
@@ -33,14 +34,14 @@ using Clock = std::chrono::steady_clock;
 
 class OffPolicyAlgorithm : public Algorithm {
  public:
-  explicit OffPolicyAlgorithm(const AlgorithmSetup& s)
+  OffPolicyAlgorithm(const AlgorithmSetup& s, const OffPolicyNetworkSize& size,
+                     const OffPolicyLearnerFactory& make_learner)
       : config_(s.config),
         facts_(s.facts),
         num_envs_(s.num_envs),
         num_tasks_(s.num_tasks),
         round_length_(s.round_length) {
     const uint64_t seed = config_.experiment.seed;
-    const agents::SacConfig agent = SeededAgentConfig<agents::SacConfig>(s);
     batch_size_ = config_.TotalBatchSize(num_tasks_);
     sampling_ = agents::ParseReplaySampling(config_.replay.sampling);
     if (sampling_ == agents::ReplaySampling::kBalanced && batch_size_ % num_tasks_ != 0) {
@@ -58,16 +59,12 @@ class OffPolicyAlgorithm : public Algorithm {
     // gradients of the actor, two critics and their targets: refused before it is tried
     CheckMemoryEstimate(4.0 * static_cast<double>(batch_size_) *
                             (2.0 * static_cast<double>(facts_.obs_dim + facts_.action_dim) +
-                             16.0 * static_cast<double>(agent.hidden_dim) *
-                                 (static_cast<double>(agent.num_layers) + 1.0)),
+                             16.0 * static_cast<double>(size.hidden_dim) *
+                                 (static_cast<double>(size.num_layers) + 1.0)),
                         "an update of " + std::to_string(batch_size_) + " rows",
                         "agent.batch_size (rows per task; experiment.batch_size: in all) or "
                         "agent.hidden_dim");
-    const torch::Tensor task_metadata =
-        agent.task_metadata.empty() ? torch::Tensor()
-                                    : LoadTaskMetadata(agent.task_metadata, s.tasks);
-    learner_ = std::make_unique<agents::SacLearner>(agent, facts_.obs_dim, facts_.action_dim,
-                                                    num_tasks_, task_metadata);
+    learner_ = make_learner(s);
     replay_ = std::make_unique<agents::ReplayBuffer>(config_.replay.capacity, facts_.obs_dim,
                                                      facts_.action_dim, num_tasks_);
     replay_generator_ = rl::MakeGenerator(MixSeed(seed, kReplayStream));
@@ -189,7 +186,9 @@ class OffPolicyAlgorithm : public Algorithm {
     }
     const torch::Tensor o =
         torch::from_blob(obs_.data(), {num_envs_, facts_.obs_dim}, torch::kFloat32);
-    const torch::Tensor a = learner_->Act(o, env_task_, /*deterministic=*/false).contiguous();
+    const torch::Tensor a =
+        learner_->AsActor().Act(o, env_task_, actor_state_, agents::ActMode::kSample)
+            .action.contiguous();
     std::copy(a.data_ptr<float>(), a.data_ptr<float>() + a.numel(), unit_.begin());
   }
 
@@ -198,7 +197,8 @@ class OffPolicyAlgorithm : public Algorithm {
   int64_t num_envs_, num_tasks_, round_length_;
   int64_t batch_size_ = 0;
   agents::ReplaySampling sampling_ = agents::ReplaySampling::kBalanced;
-  std::unique_ptr<agents::SacLearner> learner_;
+  std::unique_ptr<agents::OffPolicyLearner> learner_;
+  agents::ActorState actor_state_;  // unused by these memoryless actors
   std::unique_ptr<agents::ReplayBuffer> replay_;
   mutable at::Generator replay_generator_;
   Rng action_rng_;
@@ -209,8 +209,32 @@ class OffPolicyAlgorithm : public Algorithm {
 
 }  // namespace
 
-std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup) {
-  return std::make_unique<OffPolicyAlgorithm>(setup);
+std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup,
+                                                  const OffPolicyNetworkSize& size,
+                                                  const OffPolicyLearnerFactory& make_learner) {
+  return std::make_unique<OffPolicyAlgorithm>(setup, size, make_learner);
+}
+
+std::unique_ptr<Algorithm> MakeSacAlgorithm(const AlgorithmSetup& setup) {
+  const agents::SacConfig agent = SeededAgentConfig<agents::SacConfig>(setup);
+  return MakeOffPolicyAlgorithm(
+      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
+        const torch::Tensor task_metadata =
+            agent.task_metadata.empty() ? torch::Tensor()
+                                        : LoadTaskMetadata(agent.task_metadata, s.tasks);
+        return std::make_unique<agents::SacLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
+                                                    s.num_tasks, task_metadata);
+      });
+}
+
+std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup) {
+  const agents::DistralConfig agent = SeededAgentConfig<agents::DistralConfig>(setup);
+  // Every task agent holds an actor and twin critics with targets; pi_0 is one more actor.
+  return MakeOffPolicyAlgorithm(
+      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
+        return std::make_unique<agents::DistralLearner>(agent, s.facts.obs_dim,
+                                                        s.facts.action_dim, s.num_tasks);
+      });
 }
 
 }  // namespace manyworlds::experiments
