@@ -10,6 +10,7 @@
 
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/nn/mlp.h"
 #include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
@@ -250,6 +251,81 @@ TEST(SacMultiTaskTest, TaskMetadataVectorsReplaceTheLearnedTableAndTravelInCheck
   EXPECT_THROW(Restore(plain, bytes), Error);
   c.architecture = "mlp";
   EXPECT_THROW(c.Validate(), ConfigError);  // only task_encoder and moe read it
+}
+
+// The rule on hand-made numbers: task 0 has twice the gradient norm and has
+// trained as fast as task 1 (alpha 1): its target is the mean, it is above
+// it, so its weight's gradient is positive (the weight goes down) and task
+// 1's negative. Then task 1 trains slower (its loss ratio doubles): its
+// target rises with it.
+TEST(GradNormTest, WeightsMoveTowardsEqualWeightedNormsScaledByTheTrainingRate) {
+  const torch::Tensor w = torch::ones({3});
+  const torch::Tensor present = torch::tensor({true, true, false});
+  torch::Tensor initial = torch::full({3}, std::nan(""));
+  nn::GradNormTerms t = nn::GradNormGradient(w, torch::tensor({4.0f, 2.0f, 0.0f}),
+                                             torch::tensor({2.0f, 1.0f, 9.0f}), present,
+                                             initial, 1.0);
+  EXPECT_TRUE(torch::allclose(initial.narrow(0, 0, 2), torch::tensor({4.0f, 2.0f})));
+  EXPECT_TRUE(std::isnan(initial[2].item<float>()));  // absent: no reference yet
+  EXPECT_NEAR(t.grad[0].item<float>(), 2.0f / 2, 1e-6f);    // sign(+) * 2 / 2 tasks
+  EXPECT_NEAR(t.grad[1].item<float>(), -1.0f / 2, 1e-6f);   // sign(-) * 1 / 2
+  EXPECT_EQ(t.grad[2].item<float>(), 0.0f);
+  EXPECT_NEAR(t.loss, (0.5 + 0.5) / 2, 1e-6);  // |2 - 1.5| and |1 - 1.5|
+  // Task 1's loss ratio 2, task 0's 1: inverse rates 2/3 and 4/3; targets
+  // 1.5 * (2/3) = 1 and 1.5 * (4/3) = 2; weighted norms 2 and 1.
+  t = nn::GradNormGradient(w, torch::tensor({4.0f, 4.0f, 0.0f}), torch::tensor({2.0f, 1.0f, 9.0f}),
+                           present, initial, 1.0);
+  EXPECT_GT(t.grad[0].item<float>(), 0.0f);
+  EXPECT_LT(t.grad[1].item<float>(), 0.0f);
+  EXPECT_NEAR(t.loss, (1.0 + 1.0) / 2, 1e-5);
+  torch::Tensor weights = torch::tensor({-1.0f, 2.0f, 4.0f});
+  nn::RenormaliseTaskWeights(weights);
+  EXPECT_NEAR(weights.sum().item<float>(), 3.0f, 1e-5f);
+  EXPECT_GT(weights[0].item<float>(), 0.0f);
+}
+
+TEST(SacMultiTaskTest, GradNormBalancesTheTasksGradientNorms) {
+  SacConfig c = Tiny("mlp");
+  c.gradnorm = true;
+  SacConfig bad = c;
+  bad.architecture = "multihead";
+  EXPECT_THROW(bad.Validate(), ConfigError);  // its last layer is per task
+  bad = c;
+  bad.pcgrad = true;
+  EXPECT_THROW(bad.Validate(), ConfigError);
+  // Weights 1 at the start: the first update is the plain one.
+  SacConfig plain_config = Tiny("mlp");
+  SacLearner gn(c, 4, 2, 3), plain(plain_config, 4, 2, 3);
+  const Batch first = RandomBatch(30, 4, 2, 3, 1);
+  const Metrics m = gn.Update(first);
+  plain.Update(first);
+  EXPECT_TRUE(torch::allclose(gn.critic()->online()->flat(), plain.critic()->online()->flat(),
+                              1e-5, 1e-6));
+  EXPECT_TRUE(m.Contains("gradnorm_loss"));
+  EXPECT_TRUE(m.Contains("gradnorm_actor_loss"));
+  // With a visible learning rate the weights move, stay positive and sum to 3.
+  c.gradnorm_lr = 1e-2;
+  SacLearner learner(c, 4, 2, 3);
+  for (int i = 0; i < 30; ++i) {
+    Batch batch = RandomBatch(30, 4, 2, 3, 100 + i);
+    batch.reward = torch::where(batch.task_index == 0, 20.0 * batch.reward, batch.reward);
+    learner.Update(batch);
+  }
+  for (bool critic : {true, false}) {
+    const torch::Tensor w = learner.gradnorm_weights(critic);
+    EXPECT_NEAR(w.sum().item<float>(), 3.0f, 1e-4f);
+    EXPECT_GT(w.min().item<float>(), 0.0f);
+    EXPECT_GT((w - 1.0f).abs().max().item<float>(), 0.05f) << w;
+  }
+  // Exact resume, GradNorm's weights, references and optimisers included.
+  const std::string bytes = Archive(learner);
+  c.seed = 5;
+  SacLearner copy(c, 4, 2, 3);
+  Restore(copy, bytes);
+  const Batch next = RandomBatch(30, 4, 2, 3, 999);
+  const Metrics ma = learner.Update(next), mb = copy.Update(next);
+  for (const auto& [name, value] : ma.items()) EXPECT_EQ(value, mb.Get(name)) << name;
+  EXPECT_EQ(Archive(learner), Archive(copy));
 }
 
 TEST(SacMultiTaskTest, ActTakesTaskIndices) {

@@ -4,12 +4,14 @@
 #include <cmath>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <utility>
 #include <vector>
 
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
 #include "manyworlds/nn/task_trunks.h"
@@ -91,6 +93,23 @@ void TransferLogAlpha(torch::serialize::InputArchive& archive, const torch::Tens
   log_alpha.copy_(saved.reshape({-1}));
 }
 
+// A fixed-size tensor of a checkpoint: written as it is, read into place
+// (Error on another size).
+void TransferTensor(torch::serialize::OutputArchive& archive, const char* key,
+                    const torch::Tensor& t) {
+  archive.write(key, t);
+}
+
+void TransferTensor(torch::serialize::InputArchive& archive, const char* key,
+                    const torch::Tensor& t) {
+  torch::Tensor saved;
+  archive.read(key, saved);
+  if (!saved.sizes().equals(t.sizes())) {
+    throw Error(std::string("SacLearner::Load: '") + key + "' has another size");
+  }
+  t.copy_(saved);
+}
+
 }  // namespace
 
 torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& done,
@@ -122,7 +141,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
                       std::to_string(obs_dim) + ", " + std::to_string(action_dim) + ", " +
                       std::to_string(num_tasks));
   }
-  const int64_t shards = config.pcgrad ? 1 : config.update_shards;
+  // PCGrad and GradNorm need every task's loss on one graph: one shard.
+  const int64_t shards = config.pcgrad || config.gradnorm ? 1 : config.update_shards;
   const int threads = PoolThreads(config, shards);
   nn::ConfigureTorchThreads(/*own_threads=*/threads > 1);
 
@@ -217,6 +237,13 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   critic_optimizer_ =
       nn::FlatAdam(critic_->online()->num_params(), Adam(config, config.critic_lr));
   alpha_optimizer_ = nn::FlatAdam(log_alpha_.numel(), Adam(config, config.alpha_lr));
+  if (config.gradnorm) {
+    for (GradNormState* state : {&gradnorm_critic_, &gradnorm_actor_}) {
+      state->weights = torch::ones({num_tasks}, torch::kFloat32);
+      state->initial_loss = torch::full({num_tasks}, std::nan(""), torch::kFloat32);
+      state->optimizer = nn::FlatAdam(num_tasks, Adam(config, config.gradnorm_lr));
+    }
+  }
 
   for (int64_t s = 1; s < shards; ++s) {
     ShardReplicas r;
@@ -327,17 +354,46 @@ torch::Tensor SacLearner::SampleAlpha(const torch::Tensor& task_index) const {
 }
 
 torch::Tensor SacLearner::SampleWeights(const torch::Tensor& task_index,
-                                        const torch::Tensor& masked) const {
+                                        const torch::Tensor& masked,
+                                        const torch::Tensor& task_weights) const {
   const bool any_masked = masked.defined() && masked.numel() > 0;
-  if (!config_.task_reweight && !any_masked) return {};
+  if (!config_.task_reweight && !any_masked && !task_weights.defined()) return {};
   torch::NoGradGuard no_grad;
   // Per-task weights (T): T softmax(-log alpha), or ones; masked tasks 0.
   torch::Tensor per_task =
       config_.task_reweight
           ? static_cast<double>(num_tasks_) * torch::softmax(-log_alpha_, 0)
           : torch::ones({num_tasks_}, torch::kFloat32);
+  if (task_weights.defined()) per_task = per_task * task_weights;
   if (any_masked) per_task = per_task.index_fill(0, masked, 0.0);
   return per_task.index_select(0, task_index);
+}
+
+std::pair<torch::Tensor, torch::Tensor> SacLearner::TaskLossNorms(
+    const torch::Tensor& per_sample, const torch::Tensor& task_index,
+    const torch::Tensor& last_layer) const {
+  torch::Tensor losses = torch::zeros({num_tasks_}, torch::kFloat32);
+  torch::Tensor norms = torch::zeros({num_tasks_}, torch::kFloat32);
+  for (int64_t t = 0; t < num_tasks_; ++t) {
+    const torch::Tensor rows = torch::nonzero(task_index == t).reshape({-1});
+    if (rows.numel() == 0) continue;
+    const torch::Tensor loss = per_sample.index_select(0, rows).mean();
+    // Only the last layer's gradient: the backward stops there.
+    const torch::Tensor grad =
+        torch::autograd::grad({loss}, {last_layer}, {}, /*retain_graph=*/true)[0];
+    losses[t] = loss.detach();
+    norms[t] = grad.norm();
+  }
+  return {losses, norms};
+}
+
+double SacLearner::GradNormStep(GradNormState& state, const torch::Tensor& losses,
+                                const torch::Tensor& norms, const torch::Tensor& present) {
+  const nn::GradNormTerms terms = nn::GradNormGradient(
+      state.weights, losses, norms, present, state.initial_loss, config_.gradnorm_alpha);
+  state.optimizer.Step(state.weights, terms.grad);
+  nn::RenormaliseTaskWeights(state.weights);
+  return terms.loss;
 }
 
 torch::Tensor SacLearner::ExtremeTasks(const torch::Tensor& per_sample_loss,
@@ -426,7 +482,9 @@ Metrics SacLearner::Update(const Batch& batch) {
   // rows divided by B, so the shards add up to MSE(Q1, y) + MSE(Q2, y).
   const bool paco_resets = config_.architecture == "paco" && config_.paco_reset_threshold > 0.0;
   torch::Tensor masked;  // PaCo: tasks left out of this update
-  torch::Tensor weights = SampleWeights(batch.task_index, masked);  // (B) or undefined
+  // (B) or undefined
+  torch::Tensor weights = SampleWeights(batch.task_index, masked, gradnorm_critic_.weights);
+  torch::Tensor task_losses, task_norms;  // GradNorm: (T) each
   std::vector<double> critic_loss_part(shards), q_sum_part(shards);
   std::vector<torch::Tensor> sample_loss_part(shards);  // PaCo: (n) per shard
   torch::Tensor critic_per_sample;  // PCGrad (one shard): (B)
@@ -444,6 +502,10 @@ Metrics SacLearner::Update(const Batch& batch) {
       torch::Tensor per_sample;  // (n), only where needed: the plain loss sums (2, n) directly
       if (config_.pcgrad || weights.defined() || paco_resets) per_sample = squared.sum(0);
       if (paco_resets) sample_loss_part[s] = per_sample.detach();
+      if (config_.gradnorm) {  // one shard: rows are the batch
+        std::tie(task_losses, task_norms) = TaskLossNorms(
+            per_sample, part.task_index, params.critic[params.critic.size() - 2]);
+      }
       if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
       const torch::Tensor loss =
           (weights.defined() ? per_sample.sum() : squared.sum()) / static_cast<double>(b);
@@ -464,7 +526,7 @@ Metrics SacLearner::Update(const Batch& batch) {
     if (extreme.numel() > 0) {
       // Rare: recompute the phase with those tasks' samples weighted 0.
       masked = extreme;
-      weights = SampleWeights(batch.task_index, masked);
+      weights = SampleWeights(batch.task_index, masked, gradnorm_critic_.weights);
       critic_phase();
     }
     metrics.Set("paco_resets", static_cast<double>(extreme.numel()));
@@ -492,11 +554,21 @@ Metrics SacLearner::Update(const Batch& batch) {
   }
   metrics.Set("critic_loss", critic_loss_value);
   metrics.Set("q_mean", q_sum / (2.0 * static_cast<double>(b)));
+  torch::Tensor present;  // GradNorm: (T) bool, the tasks in this batch
+  if (config_.gradnorm) {
+    present = torch::bincount(batch.task_index, {}, num_tasks_) > 0;
+    metrics.Set("gradnorm_loss", GradNormStep(gradnorm_critic_, task_losses, task_norms, present));
+    metrics.Set("gradnorm_weight_min", gradnorm_critic_.weights.min().item<double>());
+    metrics.Set("gradnorm_weight_max", gradnorm_critic_.weights.max().item<double>());
+  }
 
   // Actor and temperature, against the critics (and encoders) just updated.
   if (actor_step) {
     std::vector<double> actor_loss_part(shards);
     std::vector<torch::Tensor> log_prob_part(shards);
+    const torch::Tensor actor_weights =
+        SampleWeights(batch.task_index, masked, gradnorm_actor_.weights);
+    torch::Tensor actor_task_losses, actor_task_norms;
     torch::Tensor actor_per_sample;  // PCGrad (one shard): (B)
     pool_->Run(shards, [&](int s) {
       const auto [lo, n] = rows(s);
@@ -520,7 +592,11 @@ Metrics SacLearner::Update(const Batch& batch) {
       if (prior_.log_prob) {
         per_sample = per_sample + prior_.weight * (pi.log_prob - prior_.log_prob(obs, pi.pre_tanh));
       }
-      if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
+      if (config_.gradnorm) {
+        std::tie(actor_task_losses, actor_task_norms) =
+            TaskLossNorms(per_sample, task, params.actor[params.actor.size() - 2]);
+      }
+      if (actor_weights.defined()) per_sample = per_sample * actor_weights.narrow(0, lo, n);
       const torch::Tensor loss = per_sample.sum() / static_cast<double>(b);
       actor_loss_part[s] = loss.item<double>();
       log_prob_part[s] = pi.log_prob.detach();
@@ -539,6 +615,10 @@ Metrics SacLearner::Update(const Batch& batch) {
       ReduceShardGrads(shards, /*critic_group=*/false);
     }
     actor_optimizer_.Step(trunk.flat(), trunk.flat_grad());
+    if (config_.gradnorm) {
+      metrics.Set("gradnorm_actor_loss",
+                  GradNormStep(gradnorm_actor_, actor_task_losses, actor_task_norms, present));
+    }
     double actor_loss_value = 0.0;
     for (double part : actor_loss_part) actor_loss_value += part;
 
@@ -621,6 +701,14 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
     Transfer(archive, "encoder", *self.encoder_);
     Transfer(archive, "encoder_target", *self.encoder_target_);
     Transfer(archive, "encoder_optimizer", self.encoder_optimizer_);
+  }
+  if (self.config_.gradnorm) {
+    TransferTensor(archive, "gradnorm_critic_weights", self.gradnorm_critic_.weights);
+    TransferTensor(archive, "gradnorm_critic_initial", self.gradnorm_critic_.initial_loss);
+    Transfer(archive, "gradnorm_critic_optimizer", self.gradnorm_critic_.optimizer);
+    TransferTensor(archive, "gradnorm_actor_weights", self.gradnorm_actor_.weights);
+    TransferTensor(archive, "gradnorm_actor_initial", self.gradnorm_actor_.initial_loss);
+    Transfer(archive, "gradnorm_actor_optimizer", self.gradnorm_actor_.optimizer);
   }
 }
 

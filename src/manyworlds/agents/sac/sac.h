@@ -134,6 +134,12 @@ class SacLearner : public OffPolicyLearner, public Actor {
                 ActMode mode) override;
   Actor& AsActor() override { return *this; }
 
+  // GradNorm's per-task weights of the critic (or actor) loss, (T); undefined
+  // without config.gradnorm.
+  const torch::Tensor& gradnorm_weights(bool critic) const {
+    return critic ? gradnorm_critic_.weights : gradnorm_actor_.weights;
+  }
+
   // Regularises towards `prior` from the next update on (see the top).
   void SetPrior(PolicyPrior prior) { prior_ = std::move(prior); }
 
@@ -213,9 +219,25 @@ class SacLearner : public OffPolicyLearner, public Actor {
                                  bool target, const ShardParams& params) const;
   // Per-sample temperatures (B), or (1) when shared.
   torch::Tensor SampleAlpha(const torch::Tensor& task_index) const;
-  // Per-sample loss weights (B): task_reweight's, times 0 for masked tasks;
-  // undefined when every weight is 1.
-  torch::Tensor SampleWeights(const torch::Tensor& task_index, const torch::Tensor& masked) const;
+  // Per-sample loss weights (B): task_reweight's, times 0 for masked tasks,
+  // times per-task weights (T) when defined (GradNorm's); undefined when
+  // every weight is 1.
+  torch::Tensor SampleWeights(const torch::Tensor& task_index, const torch::Tensor& masked,
+                              const torch::Tensor& task_weights = {}) const;
+  // GradNorm's state for one loss (critic or actor).
+  struct GradNormState {
+    torch::Tensor weights;       // (T), sum T
+    torch::Tensor initial_loss;  // (T), NaN until the task was first seen
+    nn::FlatAdam optimizer{0, nn::AdamOptions{}};
+  };
+  // Per-task mean losses (T) of per_sample (B) and the norms (T) of their
+  // gradients in `last_layer`, unweighted; 0 for absent tasks. Keeps the graph.
+  std::pair<torch::Tensor, torch::Tensor> TaskLossNorms(const torch::Tensor& per_sample,
+                                                        const torch::Tensor& task_index,
+                                                        const torch::Tensor& last_layer) const;
+  // One GradNorm step of `state` from those; returns the L1 GradNorm loss.
+  double GradNormStep(GradNormState& state, const torch::Tensor& losses,
+                      const torch::Tensor& norms, const torch::Tensor& present);
   // PaCo: tasks (int64) whose mean critic loss over their samples exceeds
   // the threshold, from per-sample losses (B).
   torch::Tensor ExtremeTasks(const torch::Tensor& per_sample_loss,
@@ -257,6 +279,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   nn::FlatAdam encoder_optimizer_;
   int64_t num_updates_ = 0;
   PolicyPrior prior_;
+  GradNormState gradnorm_critic_, gradnorm_actor_;
   std::vector<ShardReplicas> replicas_;  // one per shard after the first
   std::unique_ptr<nn::WorkerPool> pool_;
 };

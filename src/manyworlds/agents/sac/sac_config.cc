@@ -72,6 +72,16 @@ void SacConfig::Validate() const {
   Require(task_metadata.empty() || architecture == "task_encoder" || architecture == "moe",
           "task_metadata", "empty unless architecture is task_encoder or moe (it replaces their "
           "learned task table)", "'" + task_metadata + "' with architecture " + architecture);
+  Require(!gradnorm || architecture == "mlp" || architecture == "task_encoder" ||
+              architecture == "moe",
+          "gradnorm", "false unless architecture is mlp, task_encoder or moe (it balances "
+          "gradients in a last layer all tasks share)", architecture);
+  Require(!(gradnorm && pcgrad), "gradnorm", "false when pcgrad is on (one gradient "
+          "manipulation at a time)", gradnorm);
+  Require(std::isfinite(gradnorm_alpha) && gradnorm_alpha >= 0, "gradnorm_alpha",
+          "finite and >= 0", gradnorm_alpha);
+  Require(std::isfinite(gradnorm_lr) && gradnorm_lr > 0, "gradnorm_lr", "finite and > 0",
+          gradnorm_lr);
   Require(!task_reweight || disentangled_alpha, "task_reweight",
           "false unless disentangled_alpha is true (it weighs tasks by their own temperatures)",
           task_reweight);

@@ -41,6 +41,15 @@
 // "tasks" object: task name -> {"embedding": [...]}); the task encoder of
 // "task_encoder" and "moe" then starts from each task's vector instead of a
 // learned table (nn/task_encoder.h). Empty: the learned table.
+// gradnorm (Chen et al., ICML 2018; MTRL's gradnorm agents): the critic and
+// actor losses become sums of per-task losses with learned weights w_t
+// (starting at 1, kept summing to num_tasks); each update moves w by Adam on
+// sum_t |w_t G_t - mean(w G) r_t^gradnorm_alpha|, G_t the norm of task t's
+// loss gradient in the networks' last layer and r_t its loss relative to its
+// first, over the mean of those. For the architectures whose last layer is
+// shared by all tasks (mlp, task_encoder, moe). MTRL's version compares with
+// the previous update's loss instead of the first and never renormalises
+// (its renormalisation assigns a local); we follow the paper.
 // pcgrad: per-task gradients of the critic and actor losses combined by
 // PCGrad (nn/pcgrad.h) before the fused Adam steps.
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
@@ -87,6 +96,9 @@ struct SacConfig {
   int64_t num_experts = 4;  // moe, moore (CARE's and MOORE's MT10 commands use 4)
   int64_t encoder_dim = 50;          // moe: output (and hidden) width of the experts
   bool pcgrad = false;
+  bool gradnorm = false;
+  double gradnorm_alpha = 1.0;  // MTRL's config/agent/components/gradnorm.yaml
+  double gradnorm_lr = 1e-6;    // MTRL's (mtrl/agent/gradnorm.py hard-codes it)
   // soft_modular (the authors' MT10 config modular_2_2_2_256: 2 layers of 2
   // modules of width 256, a routing MLP of 2 layers of 256; its base MLP
   // uses hidden_dim).
@@ -118,7 +130,8 @@ struct SacConfig {
                             adam_beta2, discount, tau, init_temperature, batch_size, target_entropy,
                             disentangled_alpha, log_std_min, log_std_max, actor_update_freq,
                             critic_target_update_freq, max_critic_loss, seed, architecture,
-                            task_embedding_dim, num_experts, encoder_dim, pcgrad, num_modules,
+                            task_embedding_dim, num_experts, encoder_dim, pcgrad, gradnorm,
+                            gradnorm_alpha, gradnorm_lr, num_modules,
                             module_layers, module_hidden, routing_layers, routing_hidden,
                             num_param_sets, paco_reset_threshold, task_reweight, task_metadata,
                             update_shards,
