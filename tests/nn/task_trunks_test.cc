@@ -53,6 +53,13 @@ std::vector<torch::Tensor> Member(const TrunkImpl& trunk, int64_t members, int64
   return out;
 }
 
+// Every parameter redrawn from N(0, 0.5^2).
+void Redraw(TrunkImpl& trunk, uint64_t seed) {
+  torch::NoGradGuard no_grad;
+  at::Generator g = at::detail::createCPUGenerator(seed);
+  for (torch::Tensor p : trunk.detached_params()) p.normal_(0.0, 0.5, g);
+}
+
 TEST(GramSchmidtTest, GivesAnOrthonormalBasisOfTheSameSpanInOrder) {
   at::Generator g = at::detail::createCPUGenerator(3);
   const torch::Tensor x = torch::randn({5, 4, 9}, g, torch::kFloat64);
@@ -105,7 +112,14 @@ TEST(MooreTrunkTest, EqualsExpertsOrthogonalisedMixedAndTheTasksHead) {
   }
 }
 
-TEST(PacoTrunkTest, EqualsAnMlpWithTheTasksCombinedParameters) {
+// Both computations: rows of unequal task counts (K products combined per
+// row) and balanced rows (each task's parameters composed first).
+class PacoPaths : public ::testing::TestWithParam<bool> {};
+
+TEST_P(PacoPaths, EqualsAnMlpWithTheTasksCombinedParameters) {
+  const bool balanced = GetParam();
+  const torch::Tensor tasks = balanced ? torch::tensor({3, 1, 0, 2, 1, 0, 2, 3}, torch::kInt64)
+                                       : torch::tensor({0, 3, 1, 1, 2, 0, 0, 2}, torch::kInt64);
   const TaskTrunkOptions o = Small(1);
   PacoTrunkImpl paco(o, at::detail::createCPUGenerator(1));
   {
@@ -116,11 +130,11 @@ TEST(PacoTrunkTest, EqualsAnMlpWithTheTasksCombinedParameters) {
     }
   }
   const std::vector<torch::Tensor>& p = paco.detached_params();
-  const torch::Tensor x = Input(3);
-  const torch::Tensor out = paco.Forward(x, kTask, p);
+  const torch::Tensor x = torch::randn({8, 5}, at::detail::createCPUGenerator(3));
+  const torch::Tensor out = paco.Forward(x, tasks, p);
   const int64_t k = o.num_param_sets;
-  for (int64_t row = 0; row < 6; ++row) {
-    const torch::Tensor w = paco.task_weights()[0][kTask[row].item<int64_t>()];  // (K)
+  for (int64_t row = 0; row < 8; ++row) {
+    const torch::Tensor w = paco.task_weights()[0][tasks[row].item<int64_t>()];  // (K)
     std::vector<torch::Tensor> combined;
     for (size_t i = 0; i + 1 < p.size(); ++i) {
       const torch::Tensor sets = p[i][0];  // (in or 1, K * out)
@@ -132,7 +146,17 @@ TEST(PacoTrunkTest, EqualsAnMlpWithTheTasksCombinedParameters) {
     const torch::Tensor expected = MlpForward(x[row].unsqueeze(0), combined).squeeze(0);
     EXPECT_TRUE(torch::allclose(out[row], expected, 1e-5, 1e-5)) << row;
   }
+  // The twin-critic ensemble takes the same path and agrees with its members.
+  const auto pair = std::make_shared<PacoTrunkImpl>(Small(2), at::detail::createCPUGenerator(4));
+  Redraw(*pair, 6);
+  const torch::Tensor both = pair->Forward(x, tasks, pair->detached_params());
+  PacoTrunkImpl one(o, at::detail::createCPUGenerator(5));
+  for (int64_t e = 0; e < 2; ++e) {
+    EXPECT_TRUE(torch::allclose(both[e], one.Forward(x, tasks, Member(*pair, 2, e)), 1e-5, 1e-5));
+  }
 }
+
+INSTANTIATE_TEST_SUITE_P(UnequalAndBalancedRows, PacoPaths, ::testing::Bool());
 
 TEST(PacoTrunkTest, SetsStartIdenticalAndTasksDiffer) {
   const TaskTrunkOptions o = Small(2);
@@ -145,13 +169,6 @@ TEST(PacoTrunkTest, SetsStartIdenticalAndTasksDiffer) {
   const torch::Tensor out = paco.Forward(torch::ones({2, 5}), torch::tensor({0, 1}), 
                                          paco.detached_params());
   EXPECT_FALSE(torch::allclose(out.select(1, 0), out.select(1, 1)));
-}
-
-// Every parameter redrawn from N(0, 0.5^2).
-void Redraw(TrunkImpl& trunk, uint64_t seed) {
-  torch::NoGradGuard no_grad;
-  at::Generator g = at::detail::createCPUGenerator(seed);
-  for (torch::Tensor p : trunk.detached_params()) p.normal_(0.0, 0.5, g);
 }
 
 // One row through the authors' structure, module by module.

@@ -1,5 +1,6 @@
 #include "manyworlds/nn/paco.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -55,14 +56,43 @@ torch::Tensor PacoTrunkImpl::Forward(const torch::Tensor& x, const torch::Tensor
   }
   CheckTrunkTask("PacoTrunk", task, x.size(-2));
   const int64_t e = options_.ensemble_size, k = options_.num_param_sets, b = x.size(-2);
-  // (E, B, 1, K): each row's combination weights.
+  // Rows grouped by task, equally many per task (balanced replay batches, one
+  // env per task): compose each task's parameters once per layer and run one
+  // product for all tasks. That costs one product of the layer instead of K.
+  const torch::Tensor counts = torch::bincount(task, {}, options_.num_tasks);
+  const torch::Tensor present = torch::nonzero(counts).reshape({-1});
+  const int64_t tasks = present.numel();
+  const int64_t per_task = b / std::max<int64_t>(tasks, 1);
+  if (tasks > 0 && per_task * tasks == b &&
+      (counts.index_select(0, present) == per_task).all().item<bool>()) {
+    const torch::Tensor order = torch::argsort(task, /*stable=*/true);
+    const torch::Tensor inverse = torch::argsort(order);
+    // (E, P, 1, K): the present tasks' combination weights, in task order.
+    const torch::Tensor w = params.back().index_select(1, present).unsqueeze(2);
+    torch::Tensor h = ForMembers(x, e).index_select(1, order);  // (E, B, in), grouped
+    for (int64_t l = 0; l < num_maps_; ++l) {
+      const torch::Tensor& weight = params[2 * l];  // (E, in, K * out)
+      const int64_t in = weight.size(1), out = weight.size(2) / k;
+      // (E, P, K) x (E, K, in * out) -> each task's (in, out) weights.
+      const torch::Tensor sets = weight.view({e, in, k, out}).permute({0, 2, 1, 3}).reshape(
+          {e, k, in * out});
+      const torch::Tensor composed = torch::bmm(w.view({e, tasks, k}), sets);
+      const torch::Tensor bias =
+          torch::bmm(w.view({e, tasks, k}), params[2 * l + 1].view({e, k, out}));
+      h = torch::baddbmm(bias.reshape({e * tasks, 1, out}), h.reshape({e * tasks, per_task, in}),
+                         composed.reshape({e * tasks, in, out}))
+              .view({e, b, out});
+      if (l + 1 < num_maps_) h = torch::relu(h);
+    }
+    return MemberOutput(h.index_select(1, inverse), e);
+  }
+  // Any other batch: all K pre-activations in one product, (E, B, K * out) ->
+  // (E, B, K, out), combined by each row's weights (E, B, 1, K).
   const torch::Tensor w = params.back().index_select(1, task).unsqueeze(2);
   torch::Tensor h = ForMembers(x, e);
   for (int64_t l = 0; l < num_maps_; ++l) {
     const torch::Tensor& weight = params[2 * l];
     const int64_t out = weight.size(2) / k;
-    // All K pre-activations in one product, (E, B, K * out) -> (E, B, K, out),
-    // combined by the task's weights.
     h = torch::matmul(w, MemberLinear(h, weight, params[2 * l + 1]).view({e, b, k, out}))
             .squeeze(2);
     if (l + 1 < num_maps_) h = torch::relu(h);

@@ -10,10 +10,14 @@
 //   num_layers hidden layers of width hidden_dim, ReLU, linear output;
 //   the K sets start identical (`use_identical_init`), the task weights
 //   differ, so the tasks' networks start as differently scaled copies.
-// The K products of a layer are one product with the sets side by side in
-// its output dimension. Each member (actor, each critic) has its own task
-// weights. What PaCo's trainer adds (masking and resetting the task weights
-// of tasks whose loss explodes) is in the SAC learner (sac.h).
+// When a batch holds equally many rows of each task present (balanced
+// replay batches, one env per task) each task's parameters are composed first
+// and the layer is one product, as costly as a plain layer; otherwise the K
+// products of a layer are one product with the sets side by side in its
+// output dimension, combined per row (K times the cost). Each member (actor,
+// each critic) has its own task weights. What PaCo's trainer adds (masking
+// and resetting the task weights of tasks whose loss explodes) is in the SAC
+// learner (sac.h).
 // Differences: the task weights are drawn from N(0, 1 / num_tasks) (ALF's
 // fan-in variance scaling of that layer, untruncated) and have no bias;
 // the shared sets are orthogonal with zero biases, as our other MLPs.

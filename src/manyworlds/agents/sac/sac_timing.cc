@@ -27,7 +27,13 @@ SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int acti
     batch.reward = torch::randn({b}, gen, torch::kFloat32);
     batch.next_obs = torch::randn({b, obs_dim}, gen, torch::kFloat32);
     batch.done = (torch::rand({b}, gen, torch::kFloat32) < 0.01).to(torch::kFloat32);
-    batch.task_index = torch::randint(num_tasks, {b}, gen, torch::kInt64);
+    // As the trainer's balanced replay batches when the batch divides into
+    // the tasks (equally many rows per task, in random order; PaCo then
+    // composes each task's parameters once), else uniform draws.
+    batch.task_index =
+        b % num_tasks == 0
+            ? (torch::arange(b, torch::kInt64) % num_tasks).index_select(0, torch::randperm(b, gen))
+            : torch::randint(num_tasks, {b}, gen, torch::kInt64);
     batches.push_back(std::move(batch));
   }
   constexpr int kWarmup = 3;
