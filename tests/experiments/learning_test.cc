@@ -162,7 +162,7 @@ TEST(LearningTest, PacoSolvesThreeGoalsThatNeedTheTaskId) {
 // each agent solves its goal and the distillation brings pi_0 closer to them.
 TEST(LearningTest, DistralAgentsSolveTheirGoalsAndTheDistillationConverges) {
   const fs::path dir = Scratch("distral");
-  TrainConfig config = TrainConfig::Load(SourceDir() / "configs/point_nav3_distral.yaml",
+  TrainConfig config = TrainConfig::Load(SourceDir() / "configs/point_nav_distral.yaml",
                                          {"experiment.run_dir=" + dir.string()});
   Trainer trainer = Trainer::Create(config);
   const TrainSummary summary = trainer.Run();
