@@ -91,6 +91,8 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       ->capture_default_str();
   cmd->add_flag("--pcgrad", args->sizes.pcgrad,
                 "combine per-task gradients with PCGrad (one backward per task in the batch)");
+  cmd->add_flag("--gradnorm", args->sizes.gradnorm,
+                "sac: learn per-task loss weights with GradNorm (one last-layer gradient per task)");
   cmd->add_flag("--disentangled-alpha", args->sizes.disentangled_alpha, "one temperature per task");
   cmd->add_option("--updates", args->sizes.updates,
                   "timed updates per repeat (after 3 warm-up updates)")

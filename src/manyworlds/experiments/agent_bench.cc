@@ -366,6 +366,7 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
   config.num_layers = args.layers;
   config.architecture = args.architecture;
   config.pcgrad = args.pcgrad;
+  config.gradnorm = args.gradnorm;
   config.disentangled_alpha = args.disentangled_alpha;
   config.seed = args.seed;
   config.update_shards = args.shards;
@@ -375,7 +376,7 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
   } catch (const ConfigError& e) {
     // Name the flag rather than the config field.
     if (config.architecture != args.architecture ||
-        std::string(e.what()).find("architecture") != std::string::npos) {
+        std::string(e.what()).rfind("SacConfig.architecture", 0) == 0) {
       throw ConfigError("--architecture must be one of " + Join(agents::SacArchitectures()) +
                         ", got '" + args.architecture + "'");
     }
@@ -389,6 +390,7 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
   result.json = nlohmann::json({{"agent", algo},
                                 {"architecture", args.architecture},
                                 {"pcgrad", args.pcgrad},
+                                {"gradnorm", args.gradnorm},
                                 {"disentangled_alpha", args.disentangled_alpha},
                                 {"batch", args.batch},
                                 {"hidden", args.hidden},
@@ -410,7 +412,8 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
                                   {"blas_core", threads.blas_core},
                                   {"blas_library", threads.blas}}}});
   std::ostringstream summary;
-  summary << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "") << ", " << args.tasks
+  summary << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "")
+          << (args.gradnorm ? " + gradnorm" : "") << ", " << args.tasks
           << " task" << (args.tasks == 1 ? "" : "s") << "): " << Fixed(r.updates_per_s, 1)
           << " updates/s, " << Fixed(1000.0 / r.updates_per_s, 2) << " ms/update (median of "
           << r.samples.size() << " repeats of " << args.updates << " updates)\nbatch " << args.batch

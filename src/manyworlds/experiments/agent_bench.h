@@ -26,6 +26,7 @@ struct AgentBenchSizes {
   int trial_length = 200;  // rl2, maml: steps per trial
   std::string architecture = "mlp";
   bool pcgrad = false;
+  bool gradnorm = false;
   bool disentangled_alpha = false;
   int updates = 20;
   int repeats = 5;
