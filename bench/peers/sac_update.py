@@ -67,6 +67,21 @@ observation goes in without a one-hot and the networks read the task index of ea
   nn.Embedding(T, k); tanh of the mixture; one output head per task as one nn.Linear(H, T *
   out) whose row's head is picked by indexing.
 
+GradNorm (`--gradnorm`, `mlp` only, `--tasks` > 1), the peer of `bench agent --gradnorm`
+(Chen et al. 2018, as MTRL's gradnorm.py computes it): per-task loss weights w (one set for the
+critics, one for the actor, starting at 1). Each update, in the critic phase and again in the
+actor phase, a Python loop over the tasks present takes the task's mean per-sample loss L_t
+(critic: (Q1 - y)^2 + (Q2 - y)^2; actor: alpha log pi - min(Q1, Q2)) and G_t, the norm of
+dL_t/dW for W the last weight matrix (both critics' last weights together; the actor's last
+weight), with torch.autograd.grad(L_t, W, retain_graph=True); the per-sample loss is then
+weighted by w[task], averaged, backward and the usual Adam step. Then the GradNorm rule on w in
+closed form (no autograd): r_t = L_t / L_t(first update), target_t = mean(w G) (r_t /
+mean r)^alpha, d/dw_t = sign(w_t G_t - target_t) G_t / (tasks present); an Adam step on w
+(`--gradnorm-lr` 1e-6, `--gradnorm-alpha` 1.0, manyworlds' defaults), clamp at 1e-4 and
+renormalise to sum T. With `--gradnorm` the batches hold equally many rows per task in random
+order when the batch divides into the tasks, as `bench agent` draws them (without it, task
+indices are drawn uniformly as above).
+
 Sizes default to manyworlds' SacConfig defaults (2 modules, 2 module layers of 256, routing
 2 x 256; 5 parameter sets; 4 experts); `bench agent` has no flags for them. What the peer does
 differently from manyworlds: separate critic modules instead of one two-member ensemble of
@@ -130,6 +145,10 @@ def parse_args():
     p.add_argument("--routing-hidden", type=int, default=256, help="soft_modular")
     p.add_argument("--num-param-sets", type=int, default=5, help="paco")
     p.add_argument("--num-experts", type=int, default=4, help="moore")
+    p.add_argument("--gradnorm", action="store_true",
+                   help="mlp: GradNorm task weights for the critic and actor losses")
+    p.add_argument("--gradnorm-lr", type=float, default=1e-6, help="gradnorm: Adam lr of w")
+    p.add_argument("--gradnorm-alpha", type=float, default=1.0, help="gradnorm: asymmetry")
     p.add_argument("--check", action="store_true",
                    help="check shapes, task dependence and parameter counts; no timing")
     args = p.parse_args()
@@ -137,6 +156,10 @@ def parse_args():
         p.error("--tasks must be >= 1")
     if args.task_reweight == "on" and args.tasks < 2:
         p.error("--task-reweight on needs --tasks > 1 (one temperature per task)")
+    if args.gradnorm and args.architecture != "mlp":
+        p.error("--gradnorm is for --architecture mlp only")
+    if args.gradnorm and args.tasks < 2:
+        p.error("--gradnorm needs --tasks > 1")
     if args.architecture == "soft_modular" and args.module_layers < 2:
         p.error("--module-layers must be >= 2")
     return args
@@ -422,6 +445,52 @@ def main():
 
     paco_reset_count = [0]  # task resets so far (reported; none expected on random batches)
 
+    if args.gradnorm:
+        # One GradNorm state per loss: weights w (T), the first loss of each task (NaN until
+        # seen), Adam on w; and the last weight matrices whose gradients' norms it balances.
+        def gradnorm_state(last_weights):
+            w = torch.ones(num_tasks)
+            return {"w": w, "initial": torch.full((num_tasks,), float("nan")),
+                    "optimizer": torch.optim.Adam([w], lr=args.gradnorm_lr, betas=(0.9, 0.999)),
+                    "last": last_weights}
+
+        gradnorm = {"critic": gradnorm_state([qf1[-1].weight, qf2[-1].weight]),
+                    "actor": gradnorm_state([actor[-1].weight])}
+
+    def task_loss_norms(per_sample, task, last_weights):
+        """Each present task's mean loss and the norm of its gradient in the last layer."""
+        losses, norms = torch.zeros(num_tasks), torch.zeros(num_tasks)
+        for t in range(num_tasks):
+            rows = task == t
+            if not rows.any():
+                continue
+            loss = per_sample[rows].mean()
+            grads = torch.autograd.grad(loss, last_weights, retain_graph=True)
+            losses[t] = loss.detach()
+            norms[t] = torch.sqrt(sum(g.pow(2).sum() for g in grads))
+        return losses, norms
+
+    def gradnorm_step(state, losses, norms, present):
+        """GradNorm's update of w in closed form, an Adam step, clamp and renormalise."""
+        w, initial = state["w"], state["initial"]
+        with torch.no_grad():
+            n = present.sum()
+            if n == 0:
+                return
+            initial.copy_(torch.where(present & initial.isnan(), losses, initial))
+            zero = torch.zeros_like(losses)
+            ratio = torch.where(present, losses / initial, zero)
+            inverse_rate = ratio / (ratio.sum() / n + 1e-8)
+            weighted = w * norms
+            target = torch.where(present, weighted, zero).sum() / n * inverse_rate.pow(
+                args.gradnorm_alpha)
+            diff = torch.where(present, weighted - target, zero)
+            w.grad = torch.sign(diff) * norms / n
+        state["optimizer"].step()
+        with torch.no_grad():
+            w.clamp_(min=1e-4)
+            w.mul_(num_tasks / w.sum())
+
     def update(batch):
         obs, action, reward, next_obs, done, task = batch
         alpha = log_alpha.exp().detach()
@@ -441,7 +510,13 @@ def main():
         q1 = forward(qf1, q_in, task).squeeze(-1)
         q2 = forward(qf2, q_in, task).squeeze(-1)
         extreme = None
-        if weights is None and not paco_resets:
+        if args.gradnorm:
+            per_sample = (q1 - y).pow(2) + (q2 - y).pow(2)
+            present = torch.bincount(task, minlength=num_tasks) > 0
+            critic_losses, critic_norms = task_loss_norms(per_sample, task,
+                                                          gradnorm["critic"]["last"])
+            q_loss = (per_sample * gradnorm["critic"]["w"][task]).mean()
+        elif weights is None and not paco_resets:
             q_loss = nn.functional.mse_loss(q1, y) + nn.functional.mse_loss(q2, y)
         else:
             per_sample = (q1 - y).pow(2) + (q2 - y).pow(2)
@@ -458,6 +533,8 @@ def main():
         q_optimizer.zero_grad()
         q_loss.backward()
         q_optimizer.step()
+        if args.gradnorm:
+            gradnorm_step(gradnorm["critic"], critic_losses, critic_norms, present)
 
         if args.no_critic_weight_grads:
             for p in q_params:
@@ -465,13 +542,20 @@ def main():
         pi, log_prob = sample(x, task)
         pi_in = torch.cat([x, pi], 1)
         min_q_pi = torch.min(forward(qf1, pi_in, task), forward(qf2, pi_in, task)).squeeze(-1)
-        if weights is None:
+        if args.gradnorm:
+            per_sample = alpha * log_prob - min_q_pi
+            actor_losses, actor_norms = task_loss_norms(per_sample, task,
+                                                        gradnorm["actor"]["last"])
+            actor_loss = (per_sample * gradnorm["actor"]["w"][task]).mean()
+        elif weights is None:
             actor_loss = (alpha * log_prob - min_q_pi).mean()
         else:
             actor_loss = ((alpha * log_prob - min_q_pi) * weights).mean()
         actor_optimizer.zero_grad()
         actor_loss.backward()
         actor_optimizer.step()
+        if args.gradnorm:
+            gradnorm_step(gradnorm["actor"], actor_losses, actor_norms, present)
         if args.no_critic_weight_grads:
             for p in q_params:
                 p.requires_grad_(True)
@@ -501,8 +585,11 @@ def main():
         obs, act = torch.randn(b, o, generator=g), torch.rand(b, a, generator=g) * 2 - 1
         reward, next_obs = torch.randn(b, generator=g), torch.randn(b, o, generator=g)
         done = (torch.rand(b, generator=g) < 0.01).float()
-        task = (torch.randint(num_tasks, (b,), generator=g) if num_tasks > 1
-                else torch.zeros(b, dtype=torch.int64))
+        if args.gradnorm and b % num_tasks == 0:  # balanced, shuffled, as `bench agent`
+            task = (torch.arange(b) % num_tasks)[torch.randperm(b, generator=g)]
+        else:
+            task = (torch.randint(num_tasks, (b,), generator=g) if num_tasks > 1
+                    else torch.zeros(b, dtype=torch.int64))
         return obs, act, reward, next_obs, done, task
 
     batches = [random_batch() for _ in range(4)]
@@ -539,6 +626,10 @@ def main():
                           args.paco_reset_threshold if arch == "paco" else None),
                       paco_resets=paco_reset_count[0],
                       params={"actor": count(actor), "critics": count(qf1) + count(qf2)})
+    if args.gradnorm:
+        result.update(gradnorm={"lr": args.gradnorm_lr, "alpha": args.gradnorm_alpha,
+                                "critic_weights": gradnorm["critic"]["w"].tolist(),
+                                "actor_weights": gradnorm["actor"]["w"].tolist()})
     print(json.dumps(result))
 
 
