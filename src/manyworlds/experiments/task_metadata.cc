@@ -22,7 +22,13 @@ torch::Tensor LoadTaskMetadata(const std::string& path, const TaskSet& tasks) {
   const std::string where = "agent.task_metadata '" + path + "'";
   std::error_code ec;
   const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-  if (ec) throw ConfigError(where + ": cannot read it (" + ec.message() + ")");
+  if (ec) {
+    const std::filesystem::path p(path);
+    throw ConfigError(where + ": cannot read it (" + ec.message() + ")" +
+                      (p.is_relative() ? "; a relative path is read from the current directory, " +
+                                             std::filesystem::current_path().string()
+                                       : std::string()));
+  }
   if (bytes > kMaxBytes) {
     throw ConfigError(where + ": " + std::to_string(bytes) + " bytes; at most " +
                       std::to_string(kMaxBytes) + " are read");
