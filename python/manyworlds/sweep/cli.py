@@ -140,7 +140,7 @@ def parser() -> argparse.ArgumentParser:
 
     rep = commands.add_parser("report", help="statistics of a sweep with rliable",
                               description="IQM, mean, median and optimality gap with stratified-"
-                                          "bootstrap 95 %% intervals, performance profiles, "
+                                          "bootstrap 95 % intervals, performance profiles, "
                                           "probability of improvement, curves; JSON, CSV, "
                                           "Markdown and plots in SWEEP_DIR/report/.")
     rep.add_argument("sweep_dir")
