@@ -1,7 +1,6 @@
 // Distral: the prior terms of the task agents, distillation, per-task
 // routing of rows and actions, checkpoints, and the three-task bandit.
 #include <cmath>
-#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -9,6 +8,7 @@
 
 #include "manyworlds/agents/distral/distral.h"
 #include "manyworlds/core/error.h"
+#include "tests/agents/learner_archive.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -32,21 +32,6 @@ Batch RandomBatch(int64_t b, int64_t num_tasks, uint64_t seed) {
   batch.done = torch::zeros({b});
   batch.task_index = torch::randint(num_tasks, {b}, gen, torch::kInt64);
   return batch;
-}
-
-std::string Archive(const Learner& learner) {
-  torch::serialize::OutputArchive out;
-  learner.Save(out);
-  std::stringstream stream;
-  out.save_to(stream);
-  return stream.str();
-}
-
-void Restore(Learner& learner, const std::string& bytes) {
-  std::stringstream stream(bytes);
-  torch::serialize::InputArchive in;
-  in.load_from(stream);
-  learner.Load(in);
 }
 
 TEST(DistralConfigTest, BadValuesAreOneLineErrorsNamingTheField) {

@@ -1,7 +1,6 @@
 // Multi-task SAC: task conditioning per architecture, PCGrad, checkpoints,
 // and a contextual bandit that needs the task id.
 #include <cmath>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +13,7 @@
 #include "manyworlds/nn/mlp.h"
 #include "manyworlds/nn/paco.h"
 #include "manyworlds/nn/pcgrad.h"
+#include "tests/agents/learner_archive.h"
 
 namespace manyworlds::agents {
 namespace {
@@ -47,21 +47,6 @@ Batch RandomBatch(int64_t b, int64_t obs_dim, int64_t action_dim, int64_t num_ta
   batch.done = torch::zeros({b});
   batch.task_index = torch::randint(num_tasks, {b}, gen, torch::kInt64);
   return batch;
-}
-
-std::string Archive(const SacLearner& sac) {
-  torch::serialize::OutputArchive out;
-  sac.Save(out);
-  std::stringstream stream;
-  out.save_to(stream);
-  return stream.str();
-}
-
-void Restore(SacLearner& sac, const std::string& bytes) {
-  std::stringstream stream(bytes);
-  torch::serialize::InputArchive in;
-  in.load_from(stream);
-  sac.Load(in);
 }
 
 TEST(SacMultiTaskConfigTest, NewFieldsHaveDefaultsAndAreValidated) {

@@ -298,11 +298,11 @@ TEST(TaskTrunkTest, RegistryNamesAndBadOptions) {
   EXPECT_THROW(TaskTrunkFactory("care", Small(1)), ConfigError);
   TaskTrunkOptions bad = Small(1);
   bad.module_layers = 1;
-  EXPECT_THROW(TaskTrunkFactory("soft_modular", bad), ConfigError);
+  EXPECT_THROW(TaskTrunkFactory("soft_modular", bad)(c10::nullopt), ConfigError);
   bad = Small(1);
   bad.num_experts = 0;
   try {
-    TaskTrunkFactory("moore", bad);
+    TaskTrunkFactory("moore", bad)(c10::nullopt);
     FAIL();
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("num_experts must be > 0"), std::string::npos)

@@ -49,8 +49,6 @@ const TaskTrunkInfo* LookupTaskTrunk(const std::string& name) {
 TrunkFactory TaskTrunkFactory(const std::string& name, const TaskTrunkOptions& options) {
   const TaskTrunkInfo* info = LookupTaskTrunk(name);
   if (info == nullptr) throw ConfigError("unknown task trunk '" + name + "'");
-  // Build one on a throwaway generator so bad options fail here, once.
-  info->make(options, at::detail::createCPUGenerator(0));
   return [make = info->make, options](c10::optional<at::Generator> generator) {
     return make(options, generator);
   };

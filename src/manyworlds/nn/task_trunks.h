@@ -56,7 +56,7 @@ const std::vector<TaskTrunkInfo>& TaskTrunks();
 // nullptr if `name` is not a task trunk.
 const TaskTrunkInfo* LookupTaskTrunk(const std::string& name);
 // A factory for GaussianPolicy / TwinCritic. Throws ConfigError on an
-// unknown name or bad options (checked once here, before any network).
+// unknown name; the networks it builds throw ConfigError on bad options.
 TrunkFactory TaskTrunkFactory(const std::string& name, const TaskTrunkOptions& options);
 
 // Initialisers the architectures share (in place, no grad).
