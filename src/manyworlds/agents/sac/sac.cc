@@ -77,37 +77,22 @@ int PoolThreads(const SacConfig& config, int64_t shards) {
   return static_cast<int>(std::min(threads, shards));
 }
 
-// The temperatures of a checkpoint ("log_alpha"): written as they are; read
-// into `log_alpha` (Error on another number of them).
-void TransferLogAlpha(torch::serialize::OutputArchive& archive, const torch::Tensor& log_alpha) {
-  archive.write("log_alpha", log_alpha);
-}
-
-void TransferLogAlpha(torch::serialize::InputArchive& archive, const torch::Tensor& log_alpha) {
-  torch::Tensor saved;
-  archive.read("log_alpha", saved);
-  if (saved.numel() != log_alpha.numel()) {
-    throw Error("SacLearner::Load: checkpoint has " + std::to_string(saved.numel()) +
-                " temperatures, this learner " + std::to_string(log_alpha.numel()));
-  }
-  log_alpha.copy_(saved.reshape({-1}));
-}
-
-// A fixed-size tensor of a checkpoint: written as it is, read into place
-// (Error on another size).
+// A fixed-size tensor of a checkpoint (the temperatures, GradNorm's state):
+// written as it is; read into place, Error on another number of `what`.
 void TransferTensor(torch::serialize::OutputArchive& archive, const char* key,
-                    const torch::Tensor& t) {
+                    const torch::Tensor& t, const char* /*what*/ = "values") {
   archive.write(key, t);
 }
 
 void TransferTensor(torch::serialize::InputArchive& archive, const char* key,
-                    const torch::Tensor& t) {
+                    const torch::Tensor& t, const char* what = "values") {
   torch::Tensor saved;
   archive.read(key, saved);
-  if (!saved.sizes().equals(t.sizes())) {
-    throw Error(std::string("SacLearner::Load: '") + key + "' has another size");
+  if (saved.numel() != t.numel()) {
+    throw Error("SacLearner::Load: checkpoint has " + std::to_string(saved.numel()) + " " +
+                what + ", this learner " + std::to_string(t.numel()));
   }
-  t.copy_(saved);
+  t.copy_(saved.reshape(t.sizes()));
 }
 
 }  // namespace
@@ -689,7 +674,7 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
   Transfer(archive, "actor", *self.actor_->trunk());
   Transfer(archive, "critic", *self.critic_->online());
   Transfer(archive, "critic_target", *self.critic_->target());
-  TransferLogAlpha(archive, self.log_alpha_);
+  TransferTensor(archive, "log_alpha", self.log_alpha_, "temperatures");
   Transfer(archive, "actor_optimizer", self.actor_optimizer_);
   Transfer(archive, "critic_optimizer", self.critic_optimizer_);
   Transfer(archive, "alpha_optimizer", self.alpha_optimizer_);
