@@ -60,6 +60,14 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
                   "rl2, maml: steps per trial (maml: half before, half after adaptation)")
       ->capture_default_str()
       ->check(AtLeastOne(100000));
+  cmd->add_option("--frame", args->sizes.frame,
+                  "sac_ae: frames of FRAME x FRAME pixels (MTEnv's: 84)")
+      ->capture_default_str()
+      ->check(AtLeastOne(1024));
+  cmd->add_option("--channels", args->sizes.channels,
+                  "sac_ae: channels of a frame (9: three stacked RGB frames)")
+      ->capture_default_str()
+      ->check(AtLeastOne(64));
   cmd->add_option("--batch", args->sizes.batch,
                   "batch size (ppo/trpo: samples in the rollout; rl2/maml: trials; pearl: RL "
                   "transitions per task; distral: rows per task agent)")

@@ -106,3 +106,42 @@ TEST(AlgorithmRegistryTest, OptionalNumbersReadNullAndNumbersOnly) {
 
 }  // namespace
 }  // namespace manyworlds::experiments
+
+namespace manyworlds::experiments {
+namespace {
+
+// Which algorithms act on pixel frames comes from the rows: a state algorithm given obs=pixels
+// envs, or a pixel one given the state, is a one-line error naming the algorithms that fit.
+TEST(AlgorithmRegistryTest, PixelAndStateAlgorithmsRefuseTheOtherObservations) {
+  TaskSet tasks;
+  tasks.tasks.push_back({"reach", "reach", {TaskState()}});
+  EnvFacts state;
+  state.obs_dim = 39;
+  state.action_dim = 4;
+  state.action_low.assign(4, -1.0f);
+  state.action_high.assign(4, 1.0f);
+  EnvFacts pixels = state;
+  pixels.pixel_shape = {3, 16, 16};
+  auto error = [&](const std::string& algo, const EnvFacts& facts) {
+    try {
+      CheckAlgorithmEnvs(DefaultAgentConfig(algo), facts, tasks);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string ppo = error("ppo", pixels);
+  EXPECT_NE(ppo.find("agent.algo 'ppo' learns from the state, but env 'reach' has obs=pixels"),
+            std::string::npos)
+      << ppo;
+  EXPECT_NE(ppo.find("sac, sac_ae"), std::string::npos) << ppo;
+  const std::string ae = error("sac_ae", state);
+  EXPECT_NE(ae.find("learns from pixel frames"), std::string::npos) << ae;
+  EXPECT_NE(ae.find("set env.options.obs=pixels"), std::string::npos) << ae;
+  EXPECT_EQ(error("sac", state), "");
+  EXPECT_EQ(error("sac", pixels), "");
+  EXPECT_EQ(error("sac_ae", pixels), "");
+}
+
+}  // namespace
+}  // namespace manyworlds::experiments

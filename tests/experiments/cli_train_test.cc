@@ -590,7 +590,7 @@ TEST(CliTrainTest, BenchAgentRunsEveryRegisteredAlgorithm) {
   for (const experiments::AlgorithmInfo& info : experiments::Algorithms()) {
     const RunResult r = RunCli("bench agent --algo " + info.name +
                                    " --json --hidden 16 --layers 1 --batch 32 --minibatch 16"
-                                   " --trial-length 20 --updates 1 --repeats 1",
+                                   " --trial-length 20 --frame 24 --updates 1 --repeats 1",
                                dir);
     ASSERT_EQ(r.exit_code, 0) << info.name << "\n" << r.err;
     const auto j = nlohmann::json::parse(r.out);

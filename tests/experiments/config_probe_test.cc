@@ -60,11 +60,15 @@ std::vector<std::string> TinyOverrides(const std::string& algo) {
   return o;
 }
 
-fs::path PointNavConfig(const std::string& algo) {
-  std::string squeezed = algo;
+// An algorithm's small config: point_nav_<algo>.yaml, or for algorithms that learn from
+// pixels (no point-nav frames) reach_pixels_<algo>.yaml.
+fs::path PointNavConfig(const AlgorithmInfo& info) {
+  std::string squeezed = info.name;
   std::erase(squeezed, '_');
-  for (const std::string& name : {algo, squeezed}) {
-    const fs::path file = test_dirs::SourceDir() / "configs" / ("point_nav_" + name + ".yaml");
+  const std::string prefix =
+      info.observations == ObservationKind::kPixels ? "reach_pixels_" : "point_nav_";
+  for (const std::string& name : {info.name, squeezed}) {
+    const fs::path file = test_dirs::SourceDir() / "configs" / (prefix + name + ".yaml");
     if (fs::exists(file)) return file;
   }
   return {};
@@ -143,9 +147,10 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
   std::vector<Case> cases;
   std::set<std::string> shared_keys_done;  // env, replay, experiment keys: probed once
   for (const AlgorithmInfo& info : Algorithms()) {
-    const fs::path config = PointNavConfig(info.name);
+    const fs::path config = PointNavConfig(info);
     ASSERT_FALSE(config.empty()) << "no configs/point_nav_" << info.name
-                                 << ".yaml: every algorithm has a point-nav config for the probe";
+                                 << ".yaml (reach_pixels_ for pixel algorithms): every algorithm "
+                                    "has a small config for the probe";
     std::vector<std::string> keys;
     Leaves(TrainConfig::Load(config).ToJson(), "", keys);
     for (const std::string& key : keys) {

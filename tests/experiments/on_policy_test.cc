@@ -253,6 +253,17 @@ TEST(AlgorithmRegistryTest, UnknownAlgorithmsAndUnsupportedSpacesAreConfigErrors
                              "experiment.eval_every=0", "experiment.eval_episodes=1",
                              "agent.hidden_dim=16", "agent.batch_size=16"});
     }
+    if (info.observations == ObservationKind::kPixels) {
+      // no point-nav frames: Meta-World's reach from 16 x 16 frames, 20-step episodes
+      c = TrainConfig::Load(
+          std::nullopt,
+          {"agent.algo=" + info.name, "env.id=reach", "+env.options.obs=pixels",
+           "+env.options.pixel_width=16", "+env.options.pixel_height=16",
+           "+env.options.max_episode_steps=20", "experiment.steps_per_task=60",
+           "experiment.warmup_steps=30", "experiment.eval_every=0", "experiment.eval_episodes=1",
+           "agent.hidden_dim=16", "agent.batch_size=16", "agent.num_conv_layers=1",
+           "replay.capacity=1000"});
+    }
     c.experiment.run_dir = Scratch("registry_" + info.name).string();
     c.Validate();
     EXPECT_TRUE(Trainer::Create(c).Run().finished) << info.name;

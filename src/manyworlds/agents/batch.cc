@@ -30,7 +30,8 @@ void Check(const torch::Tensor& t, const char* name, std::vector<int64_t> shape,
 
 }  // namespace
 
-void ValidateBatch(const Batch& batch, int64_t obs_dim, int64_t action_dim, int64_t num_tasks) {
+void ValidateBatch(const Batch& batch, int64_t obs_dim, int64_t action_dim, int64_t num_tasks,
+                   int64_t pixel_size) {
   const int64_t b = batch.size();
   if (b <= 0) throw Error("Batch: empty or missing obs");
   Check(batch.obs, "obs", {b, obs_dim}, {torch::kFloat32});
@@ -39,6 +40,10 @@ void ValidateBatch(const Batch& batch, int64_t obs_dim, int64_t action_dim, int6
   Check(batch.next_obs, "next_obs", {b, obs_dim}, {torch::kFloat32});
   Check(batch.done, "done", {b}, {torch::kFloat32, torch::kBool});
   Check(batch.task_index, "task_index", {b}, {torch::kInt64});
+  if (pixel_size > 0) {
+    Check(batch.pixels, "pixels", {b, pixel_size}, {torch::kUInt8});
+    Check(batch.next_pixels, "next_pixels", {b, pixel_size}, {torch::kUInt8});
+  }
   auto [lo, hi] = torch::aminmax(batch.task_index);
   if (lo.item<int64_t>() < 0 || hi.item<int64_t>() >= num_tasks) {
     throw Error("Batch.task_index: values must lie in [0, " + std::to_string(num_tasks) +

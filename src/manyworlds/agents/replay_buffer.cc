@@ -46,33 +46,43 @@ const char* ReplaySamplingName(ReplaySampling sampling) {
   return sampling == ReplaySampling::kBalanced ? "balanced" : "uniform";
 }
 
-ReplayBuffer::Storage ReplayBuffer::Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim) {
-  return MakeRows<Storage>(rows, obs_dim, action_dim,
-                           [](at::IntArrayRef shape, torch::ScalarType dtype) {
-                             return torch::zeros(shape, dtype);
-                           });
+ReplayBuffer::Storage ReplayBuffer::Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim,
+                                             int64_t pixel_size) {
+  Storage storage = MakeRows<Storage>(rows, obs_dim, action_dim,
+                                      [](at::IntArrayRef shape, torch::ScalarType dtype) {
+                                        return torch::zeros(shape, dtype);
+                                      });
+  if (pixel_size > 0) {
+    storage.pixels = torch::zeros({rows, pixel_size}, torch::kUInt8);
+    storage.next_pixels = torch::zeros({rows, pixel_size}, torch::kUInt8);
+  }
+  return storage;
 }
 
 ReplayBuffer::ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim,
-                           int64_t num_tasks)
-    : obs_dim_(obs_dim), action_dim_(action_dim), num_tasks_(num_tasks) {
-  if (obs_dim < 1 || action_dim < 1 || num_tasks < 1) {
-    throw ConfigError("ReplayBuffer: obs_dim, action_dim and num_tasks must be >= 1, got " +
+                           int64_t num_tasks, int64_t pixel_size)
+    : obs_dim_(obs_dim), action_dim_(action_dim), num_tasks_(num_tasks), pixel_size_(pixel_size) {
+  if (obs_dim < 1 || action_dim < 1 || num_tasks < 1 || pixel_size < 0) {
+    throw ConfigError("ReplayBuffer: obs_dim, action_dim and num_tasks must be >= 1 and "
+                      "pixel_size >= 0, got " +
                       std::to_string(obs_dim) + ", " + std::to_string(action_dim) + ", " +
-                      std::to_string(num_tasks));
+                      std::to_string(num_tasks) + ", " + std::to_string(pixel_size));
   }
   if (capacity < num_tasks) {
     throw ConfigError("ReplayBuffer: capacity must be >= num_tasks (" +
                       std::to_string(num_tasks) + "), got " + std::to_string(capacity));
   }
   capacity_per_task_ = capacity / num_tasks;
-  // obs, next_obs, action, reward, done as float32 and the task index as int64
+  // obs, next_obs, action, reward, done as float32, the task index as int64, two frames
   CheckMemoryEstimate(static_cast<double>(capacity_per_task_ * num_tasks) *
-                          (4.0 * (2.0 * obs_dim + action_dim + 2.0) + 8.0),
+                          (4.0 * (2.0 * obs_dim + action_dim + 2.0) + 8.0 + 2.0 * pixel_size),
                       "a replay buffer of " + std::to_string(capacity) + " transitions (obs " +
-                          std::to_string(obs_dim) + ")",
+                          std::to_string(obs_dim) +
+                          (pixel_size > 0 ? ", frames of " + std::to_string(pixel_size) + " bytes"
+                                          : std::string()) +
+                          ")",
                       "replay.capacity");
-  storage_ = Allocate(capacity_per_task_ * num_tasks, obs_dim, action_dim);
+  storage_ = Allocate(capacity_per_task_ * num_tasks, obs_dim, action_dim, pixel_size);
   // task index of every row is fixed by its partition
   auto index = storage_.task_index.accessor<int64_t, 1>();
   for (int64_t t = 0; t < num_tasks; ++t) {
@@ -91,6 +101,36 @@ void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const
   CheckSize("obs", obs.size(), obs_dim_);
   CheckSize("action", action.size(), action_dim_);
   CheckSize("next_obs", next_obs.size(), obs_dim_);
+  if (pixel_size_ > 0) {
+    throw Error("ReplayBuffer::Add: this buffer stores frames (pixel_size " +
+                std::to_string(pixel_size_) + "); pass them");
+  }
+  AddRow(task, obs, action, reward, next_obs, done);
+}
+
+void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const float> action,
+                       float reward, std::span<const float> next_obs, bool done,
+                       std::span<const uint8_t> pixels, std::span<const uint8_t> next_pixels) {
+  if (task < 0 || task >= num_tasks_) {
+    throw Error("ReplayBuffer::Add: task " + std::to_string(task) + " is outside [0, " +
+                std::to_string(num_tasks_) + ")");
+  }
+  CheckSize("obs", obs.size(), obs_dim_);
+  CheckSize("action", action.size(), action_dim_);
+  CheckSize("next_obs", next_obs.size(), obs_dim_);
+  if (pixel_size_ == 0) throw Error("ReplayBuffer::Add: this buffer stores no frames");
+  CheckSize("pixels", pixels.size(), pixel_size_);
+  CheckSize("next_pixels", next_pixels.size(), pixel_size_);
+  const int64_t row = Row(task, next_[task]);
+  std::memcpy(storage_.pixels.data_ptr<uint8_t>() + row * pixel_size_, pixels.data(),
+              pixels.size());
+  std::memcpy(storage_.next_pixels.data_ptr<uint8_t>() + row * pixel_size_, next_pixels.data(),
+              next_pixels.size());
+  AddRow(task, obs, action, reward, next_obs, done);
+}
+
+void ReplayBuffer::AddRow(int64_t task, std::span<const float> obs, std::span<const float> action,
+                          float reward, std::span<const float> next_obs, bool done) {
   const int64_t row = Row(task, next_[task]);
   std::memcpy(storage_.obs.data_ptr<float>() + row * obs_dim_, obs.data(),
               obs.size_bytes());
@@ -120,7 +160,7 @@ int64_t ReplayBuffer::size(int64_t task) const {
 
 int64_t ReplayBuffer::transition_bytes() const {
   return static_cast<int64_t>(sizeof(float)) * (2 * obs_dim_ + action_dim_ + 2) +
-         static_cast<int64_t>(sizeof(int64_t));
+         static_cast<int64_t>(sizeof(int64_t)) + 2 * pixel_size_;
 }
 
 int64_t ReplayBuffer::bytes() const {
@@ -129,8 +169,9 @@ int64_t ReplayBuffer::bytes() const {
   };
   int64_t total = nbytes(storage_.obs) + nbytes(storage_.action) + nbytes(storage_.reward) +
                   nbytes(storage_.next_obs) + nbytes(storage_.done) +
-                  nbytes(storage_.task_index);
-  total += nbytes(batch_.obs) + nbytes(batch_.action) + nbytes(batch_.reward) +
+                  nbytes(storage_.task_index) + nbytes(storage_.pixels) +
+                  nbytes(storage_.next_pixels);
+  total += nbytes(batch_.pixels) + nbytes(batch_.next_pixels) + nbytes(batch_.obs) + nbytes(batch_.action) + nbytes(batch_.reward) +
            nbytes(batch_.next_obs) + nbytes(batch_.done) + nbytes(batch_.task_index) +
            nbytes(rows_);
   total += static_cast<int64_t>((size_.capacity() + next_.capacity()) * sizeof(int64_t));
@@ -157,6 +198,10 @@ void ReplayBuffer::ResizeBatch(int64_t batch_size) {
                            [](at::IntArrayRef shape, torch::ScalarType dtype) {
                              return torch::empty(shape, dtype);
                            });
+  if (pixel_size_ > 0) {
+    batch_.pixels = torch::empty({batch_size, pixel_size_}, torch::kUInt8);
+    batch_.next_pixels = torch::empty({batch_size, pixel_size_}, torch::kUInt8);
+  }
   rows_ = torch::empty({batch_size}, torch::kInt64);
 }
 
@@ -243,6 +288,10 @@ const Batch& ReplayBuffer::Gather() {
   torch::index_select_out(batch_.next_obs, storage_.next_obs, 0, rows_);
   torch::index_select_out(batch_.done, storage_.done, 0, rows_);
   torch::index_select_out(batch_.task_index, storage_.task_index, 0, rows_);
+  if (pixel_size_ > 0) {
+    torch::index_select_out(batch_.pixels, storage_.pixels, 0, rows_);
+    torch::index_select_out(batch_.next_pixels, storage_.next_pixels, 0, rows_);
+  }
   return batch_;
 }
 
@@ -265,11 +314,89 @@ void ReplayBuffer::Save(std::ostream& out) const {
     view.task_index = storage_.task_index.data_ptr<int64_t>() + first;
   }
   WriteReplaySnapshot(out, shape(), tasks);
+  if (pixel_size_ > 0) SavePixels(out);
+}
+
+namespace {
+
+constexpr char kPixelMagic[8] = {'M', 'W', 'P', 'I', 'X', 'E', 'L', 'S'};
+
+}  // namespace
+
+// The pixel block: "MWPIXELS" | i64 pixel_size | per task, its stored rows of
+// pixels then of next_pixels | u64 checksum of the block's bytes before it.
+void ReplayBuffer::SavePixels(std::ostream& out) const {
+  std::vector<char> block(kPixelMagic, kPixelMagic + sizeof(kPixelMagic));
+  auto append = [&](const void* data, size_t n) {
+    const char* bytes = static_cast<const char*>(data);
+    block.insert(block.end(), bytes, bytes + n);
+  };
+  append(&pixel_size_, sizeof(pixel_size_));
+  for (int64_t t = 0; t < num_tasks_; ++t) {
+    const size_t n = static_cast<size_t>(size_[t] * pixel_size_);
+    const int64_t first = Row(t, 0) * pixel_size_;
+    append(storage_.pixels.data_ptr<uint8_t>() + first, n);
+    append(storage_.next_pixels.data_ptr<uint8_t>() + first, n);
+  }
+  const uint64_t checksum = ReplaySnapshotChecksum(block);
+  out.write(block.data(), static_cast<std::streamsize>(block.size()));
+  out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
+  if (!out) throw Error("cannot write the replay buffer's frames");
+}
+
+std::vector<std::vector<uint8_t>> ReplayBuffer::ReadPixels(
+    std::istream& in, std::span<const int64_t> sizes) const {
+  std::vector<char> block(sizeof(kPixelMagic) + sizeof(int64_t));
+  auto read = [&](size_t offset, size_t n) {
+    if (!in.read(block.data() + offset, static_cast<std::streamsize>(n))) {
+      throw Error("replay snapshot: the frames block is truncated");
+    }
+  };
+  if (!in.read(block.data(), static_cast<std::streamsize>(block.size())) ||
+      !std::equal(kPixelMagic, kPixelMagic + sizeof(kPixelMagic), block.begin())) {
+    throw Error("replay snapshot: no frames block after the transitions (saved by a buffer "
+                "without pixels?)");
+  }
+  int64_t saved_size = 0;
+  std::memcpy(&saved_size, block.data() + sizeof(kPixelMagic), sizeof(saved_size));
+  if (saved_size != pixel_size_) {
+    throw Error("replay snapshot: frames of " + std::to_string(saved_size) +
+                " bytes, this buffer's are " + std::to_string(pixel_size_));
+  }
+  std::vector<size_t> offsets;
+  for (const int64_t size : sizes) {
+    const size_t n = static_cast<size_t>(size * pixel_size_);
+    for (int field = 0; field < 2; ++field) {
+      offsets.push_back(block.size());
+      block.resize(block.size() + n);
+      read(offsets.back(), n);
+    }
+  }
+  uint64_t checksum = 0;
+  if (!in.read(reinterpret_cast<char*>(&checksum), sizeof(checksum))) {
+    throw Error("replay snapshot: the frames block is truncated");
+  }
+  if (checksum != ReplaySnapshotChecksum(block)) {
+    throw Error("replay snapshot: the frames block is corrupt (checksum mismatch)");
+  }
+  std::vector<std::vector<uint8_t>> fields;
+  for (size_t k = 0; k < offsets.size(); ++k) {
+    const size_t n = static_cast<size_t>(sizes[k / 2] * pixel_size_);
+    fields.emplace_back(block.begin() + static_cast<std::ptrdiff_t>(offsets[k]),
+                        block.begin() + static_cast<std::ptrdiff_t>(offsets[k] + n));
+  }
+  return fields;
 }
 
 void ReplayBuffer::Load(std::istream& in) {
   // everything is read and checked before this buffer changes
   const std::vector<ReplayTaskRows> tasks = ReadReplaySnapshot(in, shape());
+  std::vector<std::vector<uint8_t>> frames;  // per task: pixels, next_pixels
+  if (pixel_size_ > 0) {
+    std::vector<int64_t> sizes;
+    for (const ReplayTaskRows& task : tasks) sizes.push_back(task.size);
+    frames = ReadPixels(in, sizes);
+  }
   auto copy = [](const std::vector<float>& from, torch::Tensor& to, int64_t offset) {
     if (!from.empty()) {
       std::memcpy(to.data_ptr<float>() + offset, from.data(), from.size() * sizeof(float));
@@ -283,6 +410,15 @@ void ReplayBuffer::Load(std::istream& in) {
     copy(task.reward, storage_.reward, first);
     copy(task.next_obs, storage_.next_obs, first * obs_dim_);
     copy(task.done, storage_.done, first);
+    if (pixel_size_ > 0) {
+      for (int field = 0; field < 2; ++field) {
+        const std::vector<uint8_t>& rows = frames[static_cast<size_t>(2 * t + field)];
+        torch::Tensor& to = field == 0 ? storage_.pixels : storage_.next_pixels;
+        if (!rows.empty()) {
+          std::memcpy(to.data_ptr<uint8_t>() + first * pixel_size_, rows.data(), rows.size());
+        }
+      }
+    }
     size_[t] = task.size;
     next_[t] = task.next;
   }

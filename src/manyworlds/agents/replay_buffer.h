@@ -23,6 +23,12 @@
 // Sample writes into tensors owned by the buffer and reused by the next
 // Sample of the same size: consume (or clone) the batch before sampling again.
 //
+// Pixel observations (pixel_size > 0, for learners that read obs=pixels
+// frames): every row also holds the frames of obs and next_obs as uint8
+// (2 * pixel_size bytes; MTRL's and SAC-AE's buffers store both frames the
+// same way), and batches carry them (Batch::pixels, next_pixels). Snapshots
+// append them after the state rows, in a block with its own checksum.
+//
 // done is `terminated` only; a time-limit truncation is stored as not done so
 // the learner bootstraps from next_obs.
 //
@@ -52,8 +58,10 @@ const char* ReplaySamplingName(ReplaySampling sampling);
 
 class ReplayBuffer {
  public:
-  // Throws ConfigError if a dim is < 1 or capacity < num_tasks.
-  ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim, int64_t num_tasks = 1);
+  // Throws ConfigError if a dim is < 1, capacity < num_tasks, pixel_size < 0,
+  // or the storage would not fit in memory.
+  ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim, int64_t num_tasks = 1,
+               int64_t pixel_size = 0);
   ReplayBuffer(const ReplayBuffer&) = delete;
   ReplayBuffer& operator=(const ReplayBuffer&) = delete;
   ReplayBuffer(ReplayBuffer&&) = default;
@@ -64,6 +72,12 @@ class ReplayBuffer {
   // task outside [0, num_tasks).
   void Add(int64_t task, std::span<const float> obs, std::span<const float> action, float reward,
            std::span<const float> next_obs, bool done);
+  // The same with the frames of obs and next_obs (pixel_size bytes each);
+  // Error on a size mismatch, or frames given to (or missing from) a buffer
+  // with(out) pixels.
+  void Add(int64_t task, std::span<const float> obs, std::span<const float> action, float reward,
+           std::span<const float> next_obs, bool done, std::span<const uint8_t> pixels,
+           std::span<const uint8_t> next_pixels);
 
   // A batch of batch_size transitions (see the sampling modes above). Throws
   // Error if the buffer (or, balanced, a task) is empty or batch_size < 1.
@@ -77,6 +91,7 @@ class ReplayBuffer {
                            at::Generator& generator);
 
   int64_t obs_dim() const { return obs_dim_; }
+  int64_t pixel_size() const { return pixel_size_; }
   int64_t action_dim() const { return action_dim_; }
   int64_t num_tasks() const { return num_tasks_; }
   int64_t capacity_per_task() const { return capacity_per_task_; }
@@ -117,8 +132,17 @@ class ReplayBuffer {
     torch::Tensor next_obs;    // (rows, obs_dim) float32
     torch::Tensor done;        // (rows) float32, 1 = terminated
     torch::Tensor task_index;  // (rows) int64
+    torch::Tensor pixels;      // (rows, pixel_size) uint8, undefined without pixels
+    torch::Tensor next_pixels;
   };
-  static Storage Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim);
+  static Storage Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim, int64_t pixel_size);
+  void AddRow(int64_t task, std::span<const float> obs, std::span<const float> action,
+              float reward, std::span<const float> next_obs, bool done);
+  void SavePixels(std::ostream& out) const;
+  // Reads and checks the frames block of tasks holding `sizes` rows without
+  // touching the buffer: per task its pixels, then its next_pixels.
+  std::vector<std::vector<uint8_t>> ReadPixels(std::istream& in,
+                                               std::span<const int64_t> sizes) const;
   void ResizeBatch(int64_t batch_size);
   // Copies the rows in rows_ into batch_.
   const Batch& Gather();
@@ -129,6 +153,7 @@ class ReplayBuffer {
   int64_t obs_dim_;
   int64_t action_dim_;
   int64_t num_tasks_;
+  int64_t pixel_size_;
   int64_t capacity_per_task_;
   Storage storage_;
   std::vector<int64_t> size_;  // (num_tasks) stored per partition

@@ -20,6 +20,7 @@
 #include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac/sac_timing.h"
+#include "manyworlds/agents/sac_ae/sac_ae.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
@@ -479,6 +480,68 @@ AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSi
           << " ms/update (median of " << rates.size() << " repeats of " << args.updates << "); "
           << args.tasks << " task agents x " << args.batch << " rows, " << args.layers << " x "
           << args.hidden << ", obs " << args.obs_dim << ", action " << args.action_dim << "\n";
+  result.summary = summary.str();
+  return result;
+}
+
+AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  // rows of frames as float feature maps (about 16 floats a byte, obs and next obs), in
+  // hidden-layer equivalents
+  CheckBenchMemory(args, static_cast<double>(args.batch) * args.tasks *
+                             (1.0 + 32.0 * args.channels * args.frame * args.frame /
+                                        (16.0 * args.hidden * (args.layers + 1.0))));
+  agents::SacAeConfig config;
+  config.hidden_dim = args.hidden;
+  config.num_layers = args.layers;
+  config.architecture = args.architecture;
+  config.disentangled_alpha = args.disentangled_alpha;
+  config.seed = args.seed;
+  ApplyThreads(args);
+  const std::vector<int64_t> frames = {args.channels, args.frame, args.frame};
+  agents::SacAeLearner learner(config, args.obs_dim, args.action_dim, args.tasks, frames);
+  // Four random batches, cycled, so that data generation is not timed.
+  at::Generator gen = at::detail::createCPUGenerator(args.seed + 1);
+  const int64_t b = static_cast<int64_t>(args.batch) * args.tasks;
+  const int64_t pixels = static_cast<int64_t>(args.channels) * args.frame * args.frame;
+  std::vector<agents::Batch> batches;
+  for (int i = 0; i < 4; ++i) {
+    agents::Batch batch;
+    batch.obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
+    batch.action = torch::rand({b, args.action_dim}, gen, torch::kFloat32) * 2.0 - 1.0;
+    batch.reward = torch::randn({b}, gen, torch::kFloat32);
+    batch.next_obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
+    batch.done = torch::zeros({b});
+    batch.task_index = torch::arange(b, torch::kInt64) % args.tasks;
+    batch.pixels = torch::randint(0, 256, {b, pixels}, gen, torch::kUInt8);
+    batch.next_pixels = torch::randint(0, 256, {b, pixels}, gen, torch::kUInt8);
+    batches.push_back(std::move(batch));
+  }
+  int next = 0;
+  const std::vector<double> rates =
+      TimeRepeats(args, 3, [&] { learner.Update(batches[static_cast<size_t>(next++ % 4)]); });
+  const double median = Median(rates);
+  AgentBenchResult result;
+  result.json = nlohmann::json(
+      {{"agent", algo},
+       {"tasks", args.tasks},
+       {"batch", b},
+       {"frame", {args.channels, args.frame, args.frame}},
+       {"hidden", args.hidden},
+       {"layers", args.layers},
+       {"action_dim", args.action_dim},
+       {"architecture", args.architecture},
+       {"unit", "one update (SAC on the encoder's features, one autoencoder step; actor and "
+                "targets every 2nd update, as the config's defaults)"},
+       {"updates_per_s", median},
+       {"ms_per_update", 1000.0 / median},
+       {"updates", rates},
+       {"threads", ThreadsJson()}});
+  std::ostringstream summary;
+  summary << algo << ": " << Fixed(median, 2) << " updates/s, " << Fixed(1000.0 / median, 2)
+          << " ms/update (median of " << rates.size() << " repeats of " << args.updates << "); "
+          << "batch " << b << " of " << args.channels << " x " << args.frame << " x " << args.frame
+          << " frames, " << args.layers << " x " << args.hidden << ", action " << args.action_dim
+          << "\n";
   result.summary = summary.str();
   return result;
 }

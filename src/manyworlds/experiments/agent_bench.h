@@ -24,6 +24,8 @@ struct AgentBenchSizes {
   int action_dim = 4;
   int tasks = 1;
   int trial_length = 200;  // rl2, maml: steps per trial
+  int frame = 84;          // pixel learners: frames of frame x frame
+  int channels = 9;        // pixel learners: channels (3 stacked RGB frames)
   std::string architecture = "mlp";
   bool pcgrad = false;
   bool gradnorm = false;
@@ -53,6 +55,7 @@ AgentBenchResult BenchRl2Updates(const std::string& algo, const AgentBenchSizes&
 AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 
 // ConfigError (CheckMemoryEstimate) if an update on `rows` rows at these
 // sizes cannot fit in memory; called before a learner is built.

@@ -9,6 +9,7 @@
 #include "manyworlds/agents/ppo/ppo.h"
 #include "manyworlds/agents/rl2/rl2.h"
 #include "manyworlds/agents/sac/sac_config.h"
+#include "manyworlds/agents/sac_ae/sac_ae.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/config/reader.h"
@@ -28,7 +29,8 @@ std::unique_ptr<AgentParams> Defaults() {
 // A registry row for config type Config.
 template <class Config>
 AlgorithmInfo Row(std::string name, AlgorithmFamily family, bool discrete_actions, bool box_actions,
-                  std::string description, AlgorithmFactory make, AgentBench bench) {
+                  std::string description, AlgorithmFactory make, AgentBench bench,
+                  ObservationKind observations = ObservationKind::kState) {
   return {std::move(name),
           family,
           discrete_actions,
@@ -36,7 +38,19 @@ AlgorithmInfo Row(std::string name, AlgorithmFamily family, bool discrete_action
           std::move(description),
           &Defaults<Config>,
           make,
-          bench};
+          bench,
+          observations};
+}
+
+// The registered names of algorithms whose policies act on `kind` of observation.
+std::string NamesFor(bool pixels) {
+  std::string names;
+  for (const AlgorithmInfo& a : Algorithms()) {
+    const bool ok = a.observations == ObservationKind::kStateOrPixels ||
+                    (a.observations == ObservationKind::kPixels) == pixels;
+    if (ok) names += (names.empty() ? "" : ", ") + a.name;
+  }
+  return names;
 }
 
 constexpr const char* kDefaultAlgorithm = "sac";
@@ -52,8 +66,9 @@ const std::vector<AlgorithmInfo>& Algorithms() {
       Row<agents::SacConfig>(
           "sac", F::kOffPolicy, false, true,
           "soft actor-critic and its multi-task variants (MT-SAC, multi-head, task encoder, "
-          "CARE mixture of encoders, PCGrad)",
-          &MakeSacAlgorithm, &BenchSacUpdates),
+          "CARE mixture of encoders, PCGrad); on obs=pixels envs with MTRL's convolutional "
+          "encoder trained by the critic",
+          &MakeSacAlgorithm, &BenchSacUpdates, ObservationKind::kStateOrPixels),
       Row<agents::PpoConfig>("ppo", F::kOnPolicy, true, true,
                              "proximal policy optimisation (MT-PPO with several tasks)",
                              &MakeOnPolicy<agents::PpoLearner, agents::PpoConfig>,
@@ -87,6 +102,12 @@ const std::vector<AlgorithmInfo>& Algorithms() {
           "(KL weight distral_alpha, entropy weight the learned temperature; Teh et al. 2017, "
           "MTRL's distral)",
           &MakeDistralAlgorithm, &BenchDistralUpdates),
+      Row<agents::SacAeConfig>(
+          "sac_ae", F::kOffPolicy, false, true,
+          "SAC-AE: SAC on pixel frames whose convolutional encoder a deconvolutional decoder's "
+          "reconstruction loss also trains (Yarats et al. 2019, MTRL's sac_ae); multi-task as "
+          "sac's architectures",
+          &MakeSacAeAlgorithm, &BenchSacAeUpdates, ObservationKind::kPixels),
   };
   return list;
 }
@@ -185,6 +206,18 @@ void CheckAlgorithmEnvs(const AgentConfig& agent, const EnvFacts& facts, const T
                         }
                         return names;
                       }());
+  }
+  const bool pixels = !facts.pixel_shape.empty();
+  const bool accepts = info.observations == ObservationKind::kStateOrPixels ||
+                       (info.observations == ObservationKind::kPixels) == pixels;
+  if (!accepts) {
+    throw ConfigError(
+        "agent.algo '" + info.name + "' learns from " + (pixels ? "the state" : "pixel frames") +
+        ", but env '" + tasks.tasks.front().env_id + "' " +
+        (pixels ? "has obs=pixels: drop env.options.obs, or use an algorithm for pixels: "
+                : "has no pixel observations: set env.options.obs=pixels, or use an algorithm "
+                  "for the state: ") +
+        NamesFor(pixels));
   }
 }
 

@@ -23,6 +23,11 @@ namespace manyworlds::experiments {
 
 enum class AlgorithmFamily { kOffPolicy, kOnPolicy };
 
+// What an algorithm's policy acts on: the env observation (the state), the
+// pixel frames of obs=pixels envs, or either (SAC: a convolutional encoder
+// when the envs have frames).
+enum class ObservationKind { kState, kPixels, kStateOrPixels };
+
 class Algorithm;
 struct AlgorithmSetup;
 using AlgorithmFactory = std::unique_ptr<Algorithm> (*)(const AlgorithmSetup& setup);
@@ -36,6 +41,7 @@ struct AlgorithmInfo {
   std::unique_ptr<AgentParams> (*default_config)();  // the config type, with its defaults
   AlgorithmFactory make;                             // its training loop (algorithm.h)
   AgentBench bench;                                  // `bench agent` (agent_bench.h)
+  ObservationKind observations = ObservationKind::kState;
 };
 
 const std::vector<AlgorithmInfo>& Algorithms();
@@ -60,7 +66,8 @@ nlohmann::json AgentConfigToJson(const AgentConfig& agent);
 // ConfigError naming the first bad field.
 void ValidateAgentConfig(const AgentConfig& agent);
 // ConfigError if the algorithm cannot act in these envs (e.g. a
-// continuous-only algorithm asked to handle a Discrete action space).
+// continuous-only algorithm asked to handle a Discrete action space, or a
+// state-based one given obs=pixels envs).
 void CheckAlgorithmEnvs(const AgentConfig& agent, const EnvFacts& facts, const TaskSet& tasks);
 
 }  // namespace manyworlds::experiments

@@ -249,13 +249,16 @@ EnvFacts FactsOf(const TaskSet& tasks, const std::function<const Env&(int64_t ta
       facts.info_size = spec.info_fields.size();
       facts.success_index = spec.InfoIndex("success");
       info_fields = spec.info_fields;
+      if (spec.pixel_space.flat_size() > 0) facts.pixel_shape = spec.pixel_space.shape();
     } else if (spec.env_obs_space.flat_size() != facts.obs_dim ||
                action.flat_size() != facts.action_dim || num_actions != facts.num_actions ||
                (action.is_box() && (action.low() != facts.action_low ||
                                     action.high() != facts.action_high)) ||
-               spec.info_fields != info_fields) {
+               spec.info_fields != info_fields ||
+               (spec.pixel_space.flat_size() > 0 ? spec.pixel_space.shape()
+                                                 : std::vector<int64_t>()) != facts.pixel_shape) {
       throw ConfigError(who + " differs from task " + tasks.tasks[0].name +
-                        " in observation size, action space or info fields");
+                        " in observation size, action space, info fields or pixel frames");
     }
     facts.episode_length = std::max(facts.episode_length, spec.max_episode_steps);
   }
@@ -277,6 +280,10 @@ void CheckEvalFacts(const EnvFacts& eval, const EnvFacts& train) {
                       std::to_string(eval.obs_dim) + " vs " + std::to_string(train.obs_dim) +
                       ", action " + std::to_string(eval.action_dim) + " vs " +
                       std::to_string(train.action_dim) + ")");
+  }
+  if (eval.pixel_shape != train.pixel_shape) {
+    throw ConfigError("eval_env: its tasks' pixel frames (obs=pixels, pixel_width, pixel_height, "
+                      "frame_stack) differ from env's");
   }
 }
 

@@ -90,6 +90,14 @@ struct EnvFacts {
   size_t info_size = 0;        // info fields per step
   int64_t episode_length = 0;  // the largest max_episode_steps (> 0)
   int success_index = -1;      // index of the "success" info field, or -1
+  // Shape of the pixel observation (obs=pixels: channels, height, width);
+  // empty without pixels.
+  std::vector<int64_t> pixel_shape;
+  int64_t pixel_size() const {
+    int64_t n = pixel_shape.empty() ? 0 : 1;
+    for (const int64_t d : pixel_shape) n *= d;
+    return n;
+  }
 };
 
 // The facts of a task set, read from one env of each task (`env_of(t)`: the

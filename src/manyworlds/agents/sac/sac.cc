@@ -61,6 +61,10 @@ Batch Rows(const Batch& batch, int64_t lo, int64_t n) {
   part.next_obs = batch.next_obs.narrow(0, lo, n);
   part.done = batch.done.narrow(0, lo, n);
   part.task_index = batch.task_index.narrow(0, lo, n);
+  if (batch.pixels.defined()) {
+    part.pixels = batch.pixels.narrow(0, lo, n);
+    part.next_pixels = batch.next_pixels.narrow(0, lo, n);
+  }
   return part;
 }
 
@@ -105,7 +109,8 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
 }
 
 SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
-                       int64_t num_tasks, const torch::Tensor& task_metadata)
+                       int64_t num_tasks, const torch::Tensor& task_metadata,
+                       std::vector<int64_t> frame_shape)
     : config_(Validated(config)),
       arch_(static_cast<Arch>(std::min<int64_t>(ArchCode(config.architecture),
                                                 static_cast<int64_t>(Arch::kTaskTrunk)))),
@@ -114,13 +119,15 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       action_dim_(action_dim),
       num_tasks_(num_tasks),
       input_dim_(obs_dim),
+      frame_shape_(std::move(frame_shape)),
       target_entropy_(config.target_entropy.value_or(-static_cast<double>(action_dim))),
       generator_(at::detail::createCPUGenerator(config.seed)),
       actor_optimizer_(0, Adam(config, config.actor_lr)),
       critic_optimizer_(0, Adam(config, config.critic_lr)),
       alpha_optimizer_(0, Adam(config, config.alpha_lr)),
       task_encoder_optimizer_(0, Adam(config, config.actor_lr)),
-      encoder_optimizer_(0, Adam(config, config.critic_lr)) {
+      encoder_optimizer_(0, Adam(config, config.critic_lr)),
+      pixel_encoder_optimizer_(0, Adam(config, config.critic_lr)) {
   if (obs_dim <= 0 || action_dim <= 0 || num_tasks <= 0) {
     throw ConfigError("SacLearner: obs_dim, action_dim and num_tasks must be > 0, got " +
                       std::to_string(obs_dim) + ", " + std::to_string(action_dim) + ", " +
@@ -131,8 +138,24 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   const int threads = PoolThreads(config, shards);
   nn::ConfigureTorchThreads(/*own_threads=*/threads > 1);
 
-  // Encoders first (fixed order of draws from the generator: task encoder,
-  // mixture encoder, actor, critics).
+  // Encoders first (fixed order of draws from the generator: pixel encoder,
+  // task encoder, mixture encoder, actor, critics).
+  if (!frame_shape_.empty()) {
+    nn::PixelEncoderOptions pixels;
+    pixels.frame_shape = frame_shape_;
+    pixels.num_layers = config.num_conv_layers;
+    pixels.num_filters = config.num_filters;
+    pixels.feature_dim = config.encoder_feature_dim;
+    pixel_encoder_ = nn::PixelEncoder(pixels, generator_);
+    pixel_encoder_target_ = nn::PixelEncoder(pixels, generator_);
+    pixel_encoder_target_->CopyFrom(*pixel_encoder_);
+    for (const torch::Tensor& p : pixel_encoder_target_->params()) p.requires_grad_(false);
+    pixel_encoder_optimizer_ =
+        nn::FlatAdam(pixel_encoder_->num_params(), Adam(config, config.critic_lr));
+    // the features are the observation from here on
+    obs_dim = config.encoder_feature_dim;
+    input_dim_ = obs_dim;
+  }
   const int64_t embed = config.task_embedding_dim;
   if (config.task_metadata.empty() != !task_metadata.defined()) {
     throw ConfigError(config.task_metadata.empty()
@@ -236,6 +259,7 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
     r.critic = critic_->online()->MakeGradientReplica();
     if (task_encoder_) r.task_encoder = task_encoder_->MakeGradientReplica();
     if (encoder_) r.encoder = encoder_->MakeGradientReplica();
+    if (pixel_encoder_) r.pixel_encoder = pixel_encoder_->MakeGradientReplica();
     replicas_.push_back(std::move(r));
   }
   pool_ = std::make_unique<nn::WorkerPool>(threads);
@@ -248,10 +272,12 @@ SacLearner::ShardParams SacLearner::ParamsOf(int shard) const {
     p.critic = critic_->online()->params();
     if (task_encoder_) p.task_encoder = task_encoder_->params();
     if (encoder_) p.encoder = encoder_->params();
+    if (pixel_encoder_) p.pixel_encoder = pixel_encoder_->params();
     return p;
   }
   const ShardReplicas& r = replicas_[static_cast<size_t>(shard - 1)];
-  return {r.actor.params, r.critic.params, r.task_encoder.params, r.encoder.params};
+  return {r.actor.params, r.critic.params, r.task_encoder.params, r.encoder.params,
+          r.pixel_encoder.params};
 }
 
 void SacLearner::ZeroShardGrads(int shard, bool critic_group) {
@@ -271,6 +297,7 @@ void SacLearner::ZeroShardGrads(int shard, bool critic_group) {
   r.critic.ZeroGrad();
   if (task_encoder_) r.task_encoder.ZeroGrad();
   if (encoder_) r.encoder.ZeroGrad();
+  if (pixel_encoder_) r.pixel_encoder.ZeroGrad();
 }
 
 void SacLearner::ReduceShardGrads(int shards, bool critic_group) {
@@ -283,6 +310,7 @@ void SacLearner::ReduceShardGrads(int shards, bool critic_group) {
     critic_->online()->flat_grad().add_(r.critic.flat_grad);
     if (task_encoder_) task_encoder_->flat_grad().add_(r.task_encoder.flat_grad);
     if (encoder_) encoder_->flat_grad().add_(r.encoder.flat_grad);
+    if (pixel_encoder_) pixel_encoder_->flat_grad().add_(r.pixel_encoder.flat_grad);
   }
 }
 
@@ -291,7 +319,19 @@ std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> SacLearner::CriticGroup()
       {critic_->online().get(), &critic_optimizer_}};
   if (encoder_) group.emplace_back(encoder_.get(), &encoder_optimizer_);
   if (task_encoder_) group.emplace_back(task_encoder_.get(), &task_encoder_optimizer_);
+  if (pixel_encoder_) group.emplace_back(pixel_encoder_.get(), &pixel_encoder_optimizer_);
   return group;
+}
+
+const torch::Tensor& SacLearner::Observation(const Batch& batch, bool next) const {
+  if (pixel_encoder_) return next ? batch.next_pixels : batch.pixels;
+  return next ? batch.next_obs : batch.obs;
+}
+
+int64_t SacLearner::pixel_size() const {
+  int64_t n = frame_shape_.empty() ? 0 : 1;
+  for (const int64_t d : frame_shape_) n *= d;
+  return n;
 }
 
 torch::Tensor SacLearner::NetworkInput(const torch::Tensor& obs, const torch::Tensor& task_index,
@@ -299,9 +339,16 @@ torch::Tensor SacLearner::NetworkInput(const torch::Tensor& obs, const torch::Te
   return NetworkInputWith(obs, task_index, target, ParamsOf(0));
 }
 
-torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& obs,
+torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& observation,
                                            const torch::Tensor& task_index, bool target,
                                            const ShardParams& params) const {
+  // frames: the encoder's features are the observation (the target critics read the target
+  // encoder's)
+  const torch::Tensor obs =
+      !pixel_encoder_ ? observation
+      : target        ? pixel_encoder_target_->Forward(observation,
+                                                       pixel_encoder_target_->detached_params())
+                      : pixel_encoder_->Forward(observation, params.pixel_encoder);
   switch (arch_) {
     case Arch::kMlp:
       if (num_tasks_ == 1) return obs;
@@ -413,10 +460,12 @@ torch::Tensor SacLearner::CriticTargetWith(const Batch& batch, const torch::Tens
                                            const torch::Tensor& eps) const {
   torch::NoGradGuard no_grad;
   const torch::Tensor heads = Heads(batch.task_index);
-  const torch::Tensor actor_in = NetworkInput(batch.next_obs, batch.task_index);
+  const torch::Tensor& next_obs = Observation(batch, /*next=*/true);
+  const torch::Tensor actor_in = NetworkInput(next_obs, batch.task_index);
   const torch::Tensor critic_in =
-      arch_ == Arch::kMoe ? NetworkInput(batch.next_obs, batch.task_index, /*target=*/true)
-                          : actor_in;
+      arch_ == Arch::kMoe || pixel_encoder_
+          ? NetworkInput(next_obs, batch.task_index, /*target=*/true)
+          : actor_in;
   const nn::PolicyOutput next =
       actor_->Forward(actor_in, heads, actor_->trunk()->detached_params());
   const nn::SquashedSample sample = nn::SquashedGaussianFromNoise(next.mean, next.log_std, eps);
@@ -433,7 +482,7 @@ torch::Tensor SacLearner::CriticTargetWith(const Batch& batch, const torch::Tens
 }
 
 torch::Tensor SacLearner::CriticTarget(const Batch& batch) {
-  ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_);
+  ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_, pixel_size());
   const torch::Tensor eps =
       torch::randn({batch.size(), action_dim_}, generator_, torch::kFloat32);
   return CriticTargetWith(batch, SampleAlpha(batch.task_index), eps);
@@ -447,7 +496,7 @@ double SacLearner::PcGradBackward(const torch::Tensor& per_sample,
 }
 
 Metrics SacLearner::Update(const Batch& batch) {
-  ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_);
+  ValidateBatch(batch, obs_dim_, action_dim_, num_tasks_, pixel_size());
   Metrics metrics;
   const int64_t b = batch.size();
   const bool actor_step = num_updates_ % config_.actor_update_freq == 0;
@@ -480,7 +529,8 @@ Metrics SacLearner::Update(const Batch& batch) {
       const ShardParams params = ParamsOf(s);
       const torch::Tensor y =
           CriticTargetWith(part, RowsOf(alpha, lo, n, b), next_eps.narrow(0, lo, n));
-      const torch::Tensor x = NetworkInputWith(part.obs, part.task_index, false, params);
+      const torch::Tensor x =
+          NetworkInputWith(Observation(part, false), part.task_index, false, params);
       const torch::Tensor q =
           critic_->Q(x, part.action, Heads(part.task_index), params.critic);  // (2, n)
       const torch::Tensor squared = (q - y).square();
@@ -557,7 +607,7 @@ Metrics SacLearner::Update(const Batch& batch) {
     torch::Tensor actor_per_sample;  // PCGrad (one shard): (B)
     pool_->Run(shards, [&](int s) {
       const auto [lo, n] = rows(s);
-      const torch::Tensor obs = batch.obs.narrow(0, lo, n);
+      const torch::Tensor obs = Observation(batch, false).narrow(0, lo, n);
       const torch::Tensor task = batch.task_index.narrow(0, lo, n);
       const torch::Tensor heads = Heads(task);
       const ShardParams params = ParamsOf(s);
@@ -627,6 +677,9 @@ Metrics SacLearner::Update(const Batch& batch) {
   if (num_updates_ % config_.critic_target_update_freq == 0) {
     critic_->UpdateTarget(config_.tau);
     if (encoder_) nn::PolyakUpdate(encoder_target_->flat(), encoder_->flat(), config_.tau);
+    if (pixel_encoder_) {
+      nn::PolyakUpdate(pixel_encoder_target_->flat(), pixel_encoder_->flat(), config_.encoder_tau);
+    }
   }
   ++num_updates_;
   return metrics;
@@ -635,6 +688,22 @@ Metrics SacLearner::Update(const Batch& batch) {
 torch::Tensor SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
                               bool deterministic) {
   c10::InferenceMode inference;
+  if (pixel_encoder_) {
+    // frames (B, C, H, W) or one (C, H, W); the encoder checks the shape
+    const bool single = obs.dim() == 3;
+    const torch::Tensor x = single ? obs.unsqueeze(0) : obs;
+    if (x.dim() != 4) {
+      throw Error("SacLearner::Act: this learner acts on frames (B, C, H, W) or (C, H, W)");
+    }
+    const torch::Tensor task =
+        single && task_index.defined() ? task_index.reshape({-1}) : task_index;
+    CheckTaskIndex(task, x.size(0), num_tasks_, "SacLearner::Act");
+    const nn::PolicyOutput out = actor_->forward(NetworkInput(x, task), Heads(task));
+    torch::Tensor action =
+        deterministic ? torch::tanh(out.mean)
+                      : nn::SampleSquashedGaussian(out.mean, out.log_std, generator_).action;
+    return single ? action.squeeze(0) : action;
+  }
   const bool single = obs.dim() == 1;
   const torch::Tensor x = single ? obs.unsqueeze(0) : obs;
   if (x.dim() != 2 || x.size(1) != obs_dim_) {
@@ -658,7 +727,7 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, bool deterministic) {
     throw Error("SacLearner::Act(obs, deterministic) is for single-task learners; this one has " +
                 std::to_string(num_tasks_) + " tasks: call Act(obs, task_index, deterministic)");
   }
-  const int64_t b = obs.dim() == 2 ? obs.size(0) : 1;
+  const int64_t b = obs.dim() == (pixel_encoder_ ? 4 : 2) ? obs.size(0) : 1;
   return Act(obs, torch::zeros({b}, torch::kInt64), deterministic);
 }
 
@@ -687,6 +756,11 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
     Transfer(archive, "encoder_target", *self.encoder_target_);
     Transfer(archive, "encoder_optimizer", self.encoder_optimizer_);
   }
+  if (self.pixel_encoder_) {
+    Transfer(archive, "pixel_encoder", *self.pixel_encoder_);
+    Transfer(archive, "pixel_encoder_target", *self.pixel_encoder_target_);
+    Transfer(archive, "pixel_encoder_optimizer", self.pixel_encoder_optimizer_);
+  }
   if (self.config_.gradnorm) {
     TransferTensor(archive, "gradnorm_critic_weights", self.gradnorm_critic_.weights);
     TransferTensor(archive, "gradnorm_critic_initial", self.gradnorm_critic_.initial_loss);
@@ -700,6 +774,7 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
 void SacLearner::Save(torch::serialize::OutputArchive& archive) const {
   archive.write("architecture", torch::tensor(arch_code_, torch::kInt64));
   archive.write("num_tasks", torch::tensor(num_tasks_, torch::kInt64));
+  if (pixel_encoder_) archive.write("frame_shape", torch::tensor(frame_shape_, torch::kInt64));
   if (task_encoder_ && task_encoder_->pretrained().defined()) {
     archive.write("task_metadata", task_encoder_->pretrained());
   }
@@ -721,6 +796,23 @@ void SacLearner::Load(torch::serialize::InputArchive& archive) {
     throw Error("SacLearner::Load: checkpoint is architecture '" + saved + "' with " +
                 std::to_string(tasks.item<int64_t>()) + " tasks, this learner '" +
                 config_.architecture + "' with " + std::to_string(num_tasks_));
+  }
+  torch::Tensor saved_frames;
+  const bool has_frames = archive.try_read("frame_shape", saved_frames);
+  const std::vector<int64_t> frames =
+      has_frames ? std::vector<int64_t>(saved_frames.data_ptr<int64_t>(),
+                                        saved_frames.data_ptr<int64_t>() + saved_frames.numel())
+                 : std::vector<int64_t>();
+  if (frames != frame_shape_) {
+    auto describe = [](const std::vector<int64_t>& shape) {
+      if (shape.empty()) return std::string("the state");
+      std::string s = "frames (";
+      for (size_t i = 0; i < shape.size(); ++i) s += (i ? ", " : "") + std::to_string(shape[i]);
+      return s + ")";
+    };
+    throw Error("SacLearner::Load: the checkpoint acts on " + describe(frames) +
+                ", this learner on " + describe(frame_shape_) +
+                " (env.options obs, pixel_width, pixel_height or frame_stack changed?)");
   }
   torch::Tensor saved_metadata;
   const bool has_metadata = archive.try_read("task_metadata", saved_metadata);

@@ -82,6 +82,7 @@
 #include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
 #include "manyworlds/nn/gaussian_policy.h"
+#include "manyworlds/nn/pixel_encoder.h"
 #include "manyworlds/nn/task_encoder.h"
 #include "manyworlds/nn/twin_critic.h"
 #include "manyworlds/nn/worker_pool.h"
@@ -107,9 +108,13 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // Validates the config (ConfigError) and the dims (> 0). task_metadata:
   // (num_tasks, D) fixed task vectors, required when config.task_metadata is
   // set (the caller reads the file: experiments' LoadTaskMetadata) and saved
-  // in checkpoints (Load refuses other vectors).
+  // in checkpoints (Load refuses other vectors). frame_shape (C, H, W): the
+  // learner acts on pixel frames through a convolutional encoder (see
+  // sac_config.h), reads Batch::pixels and next_pixels, and Act takes frames
+  // (B, C, H, W) uint8; empty: it acts on the observation.
   SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_dim,
-             int64_t num_tasks = 1, const torch::Tensor& task_metadata = {});
+             int64_t num_tasks = 1, const torch::Tensor& task_metadata = {},
+             std::vector<int64_t> frame_shape = {});
   // A copy would share the networks (module holders are shared pointers).
   SacLearner(const SacLearner&) = delete;
   SacLearner& operator=(const SacLearner&) = delete;
@@ -160,6 +165,15 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // tasks, + task_embedding_dim for "task_encoder"), encoder_dim +
   // task_embedding_dim for "moe".
   int64_t input_dim() const { return input_dim_; }
+  // What the networks read of a batch: its frames with a pixel encoder, else
+  // its observations (next: of next_obs).
+  const torch::Tensor& Observation(const Batch& batch, bool next) const;
+  const std::vector<int64_t>& frame_shape() const { return frame_shape_; }
+  int64_t pixel_size() const;
+  // Empty holders unless frame_shape was given: the pixel encoder the critic
+  // loss trains, its target copy.
+  nn::PixelEncoder& pixel_encoder() { return pixel_encoder_; }
+  nn::PixelEncoder& pixel_encoder_target() { return pixel_encoder_target_; }
 
   // Temperatures exp(log_alpha): (num_tasks) if disentangled, else (1).
   torch::Tensor Alpha() const { return log_alpha_.exp(); }
@@ -203,10 +217,10 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // The parameter lists one shard computes with: shard 0 uses the modules'
   // own parameters, shard s > 0 the replicas in replicas_[s - 1].
   struct ShardParams {
-    at::ArrayRef<torch::Tensor> actor, critic, task_encoder, encoder;
+    at::ArrayRef<torch::Tensor> actor, critic, task_encoder, encoder, pixel_encoder;
   };
   struct ShardReplicas {
-    nn::GradientReplica actor, critic, task_encoder, encoder;
+    nn::GradientReplica actor, critic, task_encoder, encoder, pixel_encoder;
   };
   ShardParams ParamsOf(int shard) const;
   // Zeroes the gradients shard `shard` accumulates into for the critic
@@ -264,6 +278,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   int64_t action_dim_;
   int64_t num_tasks_;
   int64_t input_dim_;
+  std::vector<int64_t> frame_shape_;
   double target_entropy_;
   at::Generator generator_;
   nn::GaussianPolicy actor_{nullptr};
@@ -271,12 +286,15 @@ class SacLearner : public OffPolicyLearner, public Actor {
   nn::TaskEncoder task_encoder_{nullptr};
   nn::MixtureEncoder encoder_{nullptr};
   nn::MixtureEncoder encoder_target_{nullptr};
+  nn::PixelEncoder pixel_encoder_{nullptr};
+  nn::PixelEncoder pixel_encoder_target_{nullptr};
   torch::Tensor log_alpha_;  // (num_tasks) or (1)
   nn::FlatAdam actor_optimizer_;
   nn::FlatAdam critic_optimizer_;
   nn::FlatAdam alpha_optimizer_;
   nn::FlatAdam task_encoder_optimizer_;
   nn::FlatAdam encoder_optimizer_;
+  nn::FlatAdam pixel_encoder_optimizer_;
   int64_t num_updates_ = 0;
   PolicyPrior prior_;
   GradNormState gradnorm_critic_, gradnorm_actor_;

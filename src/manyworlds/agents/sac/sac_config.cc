@@ -85,6 +85,12 @@ void SacConfig::Validate() const {
   Require(!task_reweight || disentangled_alpha, "task_reweight",
           "false unless disentangled_alpha is true (it weighs tasks by their own temperatures)",
           task_reweight);
+  Require(encoder_feature_dim >= 1 && encoder_feature_dim <= 65536, "encoder_feature_dim",
+          "in [1, 65536]", encoder_feature_dim);
+  Require(num_filters >= 1 && num_filters <= 1024, "num_filters", "in [1, 1024]", num_filters);
+  Require(num_conv_layers >= 1 && num_conv_layers <= 16, "num_conv_layers", "in [1, 16]",
+          num_conv_layers);
+  Require(encoder_tau > 0 && encoder_tau <= 1, "encoder_tau", "in (0, 1]", encoder_tau);
   Require(update_shards >= 1 && update_shards <= 64, "update_shards", "in [1, 64]",
           update_shards);
   Require(update_threads >= 0 && update_threads <= 64, "update_threads",

@@ -52,6 +52,18 @@
 // (its renormalisation assigns a local); we follow the paper.
 // pcgrad: per-task gradients of the critic and actor losses combined by
 // PCGrad (nn/pcgrad.h) before the fused Adam steps.
+// Pixel observations (the learner is given a frame shape: obs=pixels envs):
+// the frames go through a convolutional encoder (nn/pixel_encoder.h:
+// num_conv_layers x num_filters, encoder_feature_dim features; MTRL's
+// 4 x 32 -> 50) whose features replace the observation in everything above.
+// The critic loss trains it (with the critics' optimizer settings), the
+// actor sees its features detached, the target critics read a target copy
+// updated with encoder_tau (MTRL: 0.05) every critic_target_update_freq
+// updates. MTRL's actor has an encoder of its own whose convolutions are
+// tied to the critic's and whose linear and LayerNorm layers its optimizer
+// never steps; ours reads the critic's whole encoder instead (one encoder
+// pass per batch instead of two; the features are the same up to that
+// untrained projection).
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
 #define MANYWORLDS_AGENTS_SAC_SAC_CONFIG_H_
 
@@ -111,6 +123,11 @@ struct SacConfig {
   double paco_reset_threshold = 3000.0;  // paco (its MT10 config: task_loss_threshold 3e3)
   bool task_reweight = false;
   std::string task_metadata;  // task_encoder, moe: CARE's task metadata file
+  // Pixel observations (MTRL's pixel agents: config/agent/sac_ae.yaml).
+  int64_t encoder_feature_dim = 50;
+  int64_t num_filters = 32;
+  int64_t num_conv_layers = 4;
+  double encoder_tau = 0.05;
 
   // Data-parallel updates: each update splits its batch into update_shards
   // parts whose gradients are computed at once on update_threads threads
@@ -134,6 +151,7 @@ struct SacConfig {
                             gradnorm_alpha, gradnorm_lr, num_modules,
                             module_layers, module_hidden, routing_layers, routing_hidden,
                             num_param_sets, paco_reset_threshold, task_reweight, task_metadata,
+                            encoder_feature_dim, num_filters, num_conv_layers, encoder_tau,
                             update_shards,
                             update_threads);
   }

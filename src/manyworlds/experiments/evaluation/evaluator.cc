@@ -93,7 +93,8 @@ EvalResult Evaluator::RunEpisodes(const PolicyFn& policy,
     while (remaining > 0) {
       const torch::Tensor obs = torch::from_blob(
           const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
-      const torch::Tensor unit = policy(obs, task_index).contiguous();
+      // frames for pixel policies; observers (stateful actors) read the state obs
+      const torch::Tensor unit = policy(collector_->PolicyObservations(), task_index).contiguous();
       const torch::Tensor obs_before = observe ? obs.clone() : torch::Tensor();
       collector_->StepEnvs({unit.data_ptr<float>(), static_cast<size_t>(unit.numel())});
       if (observe) {

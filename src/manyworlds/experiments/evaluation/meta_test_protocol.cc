@@ -283,7 +283,10 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
             const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
         const PerEnvState before = state.tensors;
         const torch::Tensor valid = waiting.logical_not().to(torch::kFloat32);
-        const torch::Tensor action = actor.Act(obs, task_index, state, mode).action.contiguous();
+        // frames for pixel policies; observers (stateful actors) read the state obs
+        const torch::Tensor action =
+            actor.Act(collector_->PolicyObservations(), task_index, state, mode)
+                .action.contiguous();
         // obs views the executor's buffer, which the step overwrites
         const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
         collector_->StepEnvs({action.data_ptr<float>(), static_cast<size_t>(action.numel())});

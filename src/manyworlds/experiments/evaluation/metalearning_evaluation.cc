@@ -91,7 +91,9 @@ MetaTestResult MetaTestProtocol::RunMetalearningEvaluation(agents::Actor& actor)
   auto step = [&](agents::ActorState& state, agents::ActMode mode, auto&& on_end) {
     const torch::Tensor obs = torch::from_blob(
         const_cast<float*>(collector_->observations().data()), {n, obs_dim}, torch::kFloat32);
-    const torch::Tensor action = actor.Act(obs, task_index, state, mode).action.contiguous();
+    // frames for pixel policies; observers (stateful actors) read the state obs
+    const torch::Tensor action =
+        actor.Act(collector_->PolicyObservations(), task_index, state, mode).action.contiguous();
     // obs views the executor's buffer, which the step overwrites
     const torch::Tensor acted_on = observe ? obs.clone() : torch::Tensor();
     collector_->StepEnvs({action.data_ptr<float>(), static_cast<size_t>(action.numel())});

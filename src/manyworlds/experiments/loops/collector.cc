@@ -39,12 +39,6 @@ std::vector<std::unique_ptr<Env>> MakeEnvs(const TaskSet& tasks, const Registry&
   std::vector<std::unique_ptr<Env>> envs;
   for (int64_t i = 0; i < tasks.size() * envs_per_task; ++i) {
     envs.push_back(tasks.MakeEnv(i / envs_per_task, registry));
-    // the learners read env_obs (the state): rendering frames nobody reads would only cost
-    if (envs.back()->spec().pixel_space.flat_size() > 0) {
-      throw ConfigError("env '" + envs.back()->spec().id +
-                        "': obs=pixels is for Python agents (manyworlds.make, make_vec) so far; "
-                        "the C++ agents learn from the state, so drop obs=pixels");
-    }
   }
   return envs;
 }
@@ -131,6 +125,16 @@ void Collector::StartEpisode(int64_t env, int64_t variation) {
   exec_->SetTaskState(static_cast<int>(env), variations[v]);
   env_variations_[env] = v;
   tracker_.Restart(env);
+}
+
+torch::Tensor Collector::PolicyObservations() const {
+  if (facts_.pixel_shape.empty()) {
+    return torch::from_blob(const_cast<float*>(exec_->env_obs().data()),
+                            {num_envs_, facts_.obs_dim}, torch::kFloat32);
+  }
+  std::vector<int64_t> shape = {num_envs_};
+  shape.insert(shape.end(), facts_.pixel_shape.begin(), facts_.pixel_shape.end());
+  return torch::from_blob(const_cast<uint8_t*>(exec_->pixels().data()), shape, torch::kUInt8);
 }
 
 void Collector::ResetEpisodes() {

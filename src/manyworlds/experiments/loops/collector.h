@@ -23,6 +23,8 @@
 #include <span>
 #include <vector>
 
+#include <torch/torch.h>
+
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/registry.h"
 #include "manyworlds/experiments/loops/episode_tracker.h"
@@ -111,6 +113,10 @@ class Collector {
   Env& env(int64_t i) { return exec_->env(static_cast<int>(i)); }
   // Current observations (num_envs x obs_dim); valid until the next Step.
   std::span<const float> observations() const { return exec_->env_obs(); }
+  // What a policy acts on, viewing the executor's buffers (valid until the
+  // next Step): the pixel frames (num_envs, C, H, W) uint8 with obs=pixels,
+  // else the observations (num_envs, obs_dim) float32.
+  torch::Tensor PolicyObservations() const;
   // Steps every env with one row of policy actions each (num_envs x
   // action_dim) and accounts the episodes that ended into `totals`.
   void Step(std::span<const float> policy_actions, EpisodeTotals& totals);

@@ -30,6 +30,7 @@ std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup,
 // The registry's rows: SAC (and its variants), Distral.
 std::unique_ptr<Algorithm> MakeSacAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup);
+std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakePearlAlgorithm(const AlgorithmSetup& setup);
 // The on-policy loop around `learner`, collecting `rounds` rounds of every
 // env per update.

@@ -4,7 +4,8 @@
 //     then sampled from the learner (one batched forward pass, inference mode);
 //  2. step the envs; store one transition per env with done = terminated (a
 //     time-limit cut bootstraps) and next_obs = the episode's last
-//     observation where it ended;
+//     observation where it ended (with obs=pixels also both frames, the
+//     learner acting on the frames);
 //  3. after warm-up, gradient updates so that updates = floor((step -
 //     warmup_steps) * updates_per_step), each on a replay batch.
 // Checkpoint files: learner.pt (learner, replay and torch generators),
@@ -17,6 +18,7 @@
 #include "manyworlds/agents/distral/distral.h"
 #include "manyworlds/agents/replay_buffer.h"
 #include "manyworlds/agents/sac/sac.h"
+#include "manyworlds/agents/sac_ae/sac_ae.h"
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/memory.h"
 #include "manyworlds/core/rng.h"
@@ -57,21 +59,26 @@ class OffPolicyAlgorithm : public Algorithm {
     }
     // one update holds, per batch row, the transition and every layer's activations and
     // gradients of the actor, two critics and their targets: refused before it is tried
+    // (frames: a convolutional encoder's feature maps, about 16 floats per input byte, for
+    // obs and next_obs, online and target)
     CheckMemoryEstimate(4.0 * static_cast<double>(batch_size_) *
                             (2.0 * static_cast<double>(facts_.obs_dim + facts_.action_dim) +
                              16.0 * static_cast<double>(size.hidden_dim) *
-                                 (static_cast<double>(size.num_layers) + 1.0)),
+                                 (static_cast<double>(size.num_layers) + 1.0) +
+                             64.0 * static_cast<double>(facts_.pixel_size())),
                         "an update of " + std::to_string(batch_size_) + " rows",
                         "agent.batch_size (rows per task; experiment.batch_size: in all) or "
                         "agent.hidden_dim");
     learner_ = make_learner(s);
     replay_ = std::make_unique<agents::ReplayBuffer>(config_.replay.capacity, facts_.obs_dim,
-                                                     facts_.action_dim, num_tasks_);
+                                                     facts_.action_dim, num_tasks_,
+                                                     facts_.pixel_size());
     replay_generator_ = rl::MakeGenerator(MixSeed(seed, kReplayStream));
     action_rng_.Seed(MixSeed(seed, kActionStream));
     env_task_ = torch::empty({num_envs_}, torch::kInt64);
     for (int64_t i = 0; i < num_envs_; ++i) env_task_[i] = i / config_.env.envs_per_task;
     obs_.assign(num_envs_ * facts_.obs_dim, 0.0f);
+    pixels_.assign(num_envs_ * facts_.pixel_size(), 0);
     unit_.assign(num_envs_ * facts_.action_dim, 0.0f);
   }
 
@@ -87,7 +94,7 @@ class OffPolicyAlgorithm : public Algorithm {
     MetricMeans means;
     collector.BeginRound(config_.experiment.seed, round);
     BatchedExecutor& exec = collector.executor();
-    const int64_t d = facts_.obs_dim, a = facts_.action_dim;
+    const int64_t d = facts_.obs_dim, a = facts_.action_dim, p = facts_.pixel_size();
     for (int64_t s = 0; s < round_length_; ++s) {
       const auto t0 = Clock::now();
       ChooseActions(collector, step);
@@ -95,15 +102,26 @@ class OffPolicyAlgorithm : public Algorithm {
       collector.Step(unit_, totals);
       const auto next = exec.env_obs();
       const auto final_obs = exec.final_env_obs();
+      const auto next_pixels = exec.pixels();
+      const auto final_pixels = exec.final_pixels();
       const auto rewards = exec.rewards();
       const auto terminated = exec.terminated();
       const auto truncated = exec.truncated();
       for (int64_t i = 0; i < num_envs_; ++i) {
         const bool ended = terminated[i] || truncated[i];
         const float* next_row = (ended ? final_obs.data() : next.data()) + i * d;
-        replay_->Add(collector.env_tasks()[i], {obs_.data() + i * d, static_cast<size_t>(d)},
-                     {unit_.data() + i * a, static_cast<size_t>(a)}, rewards[i],
-                     {next_row, static_cast<size_t>(d)}, terminated[i]);
+        const std::span<const float> obs(obs_.data() + i * d, static_cast<size_t>(d));
+        const std::span<const float> action(unit_.data() + i * a, static_cast<size_t>(a));
+        const std::span<const float> next_obs(next_row, static_cast<size_t>(d));
+        if (p == 0) {
+          replay_->Add(collector.env_tasks()[i], obs, action, rewards[i], next_obs,
+                       terminated[i]);
+          continue;
+        }
+        const uint8_t* next_frame = (ended ? final_pixels.data() : next_pixels.data()) + i * p;
+        replay_->Add(collector.env_tasks()[i], obs, action, rewards[i], next_obs, terminated[i],
+                     {pixels_.data() + i * p, static_cast<size_t>(p)},
+                     {next_frame, static_cast<size_t>(p)});
       }
       const auto t2 = Clock::now();
       ++step;
@@ -180,15 +198,16 @@ class OffPolicyAlgorithm : public Algorithm {
   void ChooseActions(Collector& collector, int64_t step) {
     const auto current = collector.observations();
     std::copy(current.begin(), current.end(), obs_.begin());
+    const auto frames = collector.executor().pixels();
+    std::copy(frames.begin(), frames.end(), pixels_.begin());
     if (step < config_.experiment.warmup_steps) {
       for (float& a : unit_) a = static_cast<float>(action_rng_.Uniform(-1.0, 1.0));
       return;
     }
-    const torch::Tensor o =
-        torch::from_blob(obs_.data(), {num_envs_, facts_.obs_dim}, torch::kFloat32);
-    const torch::Tensor a =
-        learner_->AsActor().Act(o, env_task_, actor_state_, agents::ActMode::kSample)
-            .action.contiguous();
+    const torch::Tensor a = learner_->AsActor()
+                                .Act(collector.PolicyObservations(), env_task_, actor_state_,
+                                     agents::ActMode::kSample)
+                                .action.contiguous();
     std::copy(a.data_ptr<float>(), a.data_ptr<float>() + a.numel(), unit_.begin());
   }
 
@@ -204,6 +223,7 @@ class OffPolicyAlgorithm : public Algorithm {
   Rng action_rng_;
   torch::Tensor env_task_;
   std::vector<float> obs_, unit_;
+  std::vector<uint8_t> pixels_;  // the frames acted on, with obs=pixels
   int64_t updates_ = 0;
 };
 
@@ -223,7 +243,8 @@ std::unique_ptr<Algorithm> MakeSacAlgorithm(const AlgorithmSetup& setup) {
             agent.task_metadata.empty() ? torch::Tensor()
                                         : LoadTaskMetadata(agent.task_metadata, s.tasks);
         return std::make_unique<agents::SacLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
-                                                    s.num_tasks, task_metadata);
+                                                    s.num_tasks, task_metadata,
+                                                    s.facts.pixel_shape);
       });
 }
 
@@ -234,6 +255,15 @@ std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup) {
       setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
         return std::make_unique<agents::DistralLearner>(agent, s.facts.obs_dim,
                                                         s.facts.action_dim, s.num_tasks);
+      });
+}
+
+std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup) {
+  const agents::SacAeConfig agent = SeededAgentConfig<agents::SacAeConfig>(setup);
+  return MakeOffPolicyAlgorithm(
+      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
+        return std::make_unique<agents::SacAeLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
+                                                      s.num_tasks, s.facts.pixel_shape);
       });
 }
 

@@ -1,0 +1,95 @@
+// SAC-AE (Yarats et al. 2019, "Improving Sample Efficiency in Model-Free
+// Reinforcement Learning from Images"; MTRL's agent/sac_ae.py): SAC on pixel
+// frames whose convolutional encoder is also trained by a deconvolutional
+// decoder's reconstruction loss.
+//
+//   SacAeLearner learner(config, obs_dim, action_dim, num_tasks, {9, 84, 84});
+//   Metrics m = learner.Update(batch);  // batch.pixels, batch.next_pixels filled
+//
+// One update:
+//  1. SAC's update on the frames (agents/sac/sac.h with a pixel encoder:
+//     critic loss into the critics and the encoder, actor on detached
+//     features, temperature, targets, the encoder's target with encoder_tau);
+//  2. every decoder_update_freq updates, the autoencoder step: h = encoder(o)
+//     (the critic's encoder, online), reconstruction loss
+//     MSE(decoder(h), preprocess(o)) + decoder_latent_lambda * mean(0.5 |h|^2),
+//     preprocess being SAC-AE's 5-bit quantisation with uniform
+//     dequantisation noise, mapped to [-0.5, 0.5]; one backward into encoder
+//     and decoder, an Adam step of each (the encoder's own Adam state,
+//     encoder_lr; the decoder's with L2 weight decay decoder_weight_decay).
+// In MTRL's order: SAC's steps first, then the decoder. Metrics: SAC's, and
+// on decoder steps ae_loss (reconstruction plus latent penalty).
+//
+// Defaults are MTRL's for its DeepMind Control (HiP-BMDP) setup:
+// config/agent/sac_ae.yaml and config/agent/{components,optimizers}/hipbmdp_*.yaml:
+// actor and critics 2 x 1024, log-std in [-10, 2], Adam 1e-3 for actor,
+// critics, encoder and decoder (decoder weight decay 1e-7), temperature 0.1
+// with Adam 1e-4, actor and targets every 2 updates, critic tau 0.01, encoder
+// tau 0.05, encoder 4 x 32 convolutions to 50 features.
+// Differences: decoder_latent_lambda defaults to the paper's 1e-6 (MTRL's
+// config sets 0.0); MTRL's temperature Adam uses betas (0.5, 0.999), ours the
+// betas every optimiser shares (adam_beta1, adam_beta2: 0.9, 0.999); the actor
+// reads the critic's encoder detached (sac_config.h says why).
+#ifndef MANYWORLDS_AGENTS_SAC_AE_SAC_AE_H_
+#define MANYWORLDS_AGENTS_SAC_AE_SAC_AE_H_
+
+#include <cstdint>
+#include <vector>
+
+#include <torch/torch.h>
+
+#include "manyworlds/agents/learner.h"
+#include "manyworlds/agents/sac/sac.h"
+#include "manyworlds/agents/sac/sac_config.h"
+#include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/pixel_encoder.h"
+
+namespace manyworlds::agents {
+
+struct SacAeConfig : SacConfig {
+  double encoder_lr = 1e-3;             // the encoder's Adam in the autoencoder step
+  double decoder_lr = 1e-3;
+  double decoder_weight_decay = 1e-7;   // L2, as torch.optim.Adam's weight_decay
+  double decoder_latent_lambda = 1e-6;  // the latent L2 penalty (MTRL's config: 0.0)
+  int64_t decoder_update_freq = 1;      // autoencoder step every k updates
+
+  SacAeConfig();
+  template <class F>
+  void VisitFields(F&& f) {
+    SacConfig::VisitFields(f);
+    MANYWORLDS_VISIT_FIELDS(f, encoder_lr, decoder_lr, decoder_weight_decay,
+                            decoder_latent_lambda, decoder_update_freq);
+  }
+  // Throws ConfigError naming the first bad field.
+  void Validate() const;
+};
+
+class SacAeLearner : public OffPolicyLearner {
+ public:
+  // frame_shape: (C, H, W) of the frames (required). Throws ConfigError on a
+  // bad config or an empty frame shape.
+  SacAeLearner(const SacAeConfig& config, int64_t obs_dim, int64_t action_dim, int64_t num_tasks,
+               const std::vector<int64_t>& frame_shape);
+
+  Metrics Update(const Batch& batch) override;
+  Actor& AsActor() override { return sac_; }
+  void Save(torch::serialize::OutputArchive& archive) const override;
+  void Load(torch::serialize::InputArchive& archive) override;
+
+  SacLearner& sac() { return sac_; }
+  nn::PixelDecoder& decoder() { return decoder_; }
+  // The autoencoder loss of a batch's frames (no step; dequantisation noise
+  // from `generator`). Exposed for tests.
+  torch::Tensor AutoencoderLoss(const Batch& batch, at::Generator& generator);
+
+ private:
+  SacAeConfig config_;
+  SacLearner sac_;
+  nn::PixelDecoder decoder_{nullptr};
+  nn::FlatAdam encoder_optimizer_;
+  nn::FlatAdam decoder_optimizer_;
+};
+
+}  // namespace manyworlds::agents
+
+#endif  // MANYWORLDS_AGENTS_SAC_AE_SAC_AE_H_
