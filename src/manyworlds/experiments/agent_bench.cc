@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "manyworlds/agents/distral/distral.h"
@@ -21,6 +22,8 @@
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac/sac_timing.h"
 #include "manyworlds/agents/sac_ae/sac_ae.h"
+#include "manyworlds/agents/deepmdp/deepmdp.h"
+#include "manyworlds/agents/hipbmdp/hipbmdp.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
@@ -484,21 +487,29 @@ AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSi
   return result;
 }
 
-AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSizes& args) {
+namespace {
+
+// A pixel learner's whole update (SAC on the frames and its representation losses) on random
+// frames of --channels x --frame x --frame.
+template <class Learner, class Config>
+AgentBenchResult TimePixelUpdates(const std::string& algo, const AgentBenchSizes& args,
+                                  const std::string& unit) {
   // rows of frames as float feature maps (about 16 floats a byte, obs and next obs), in
   // hidden-layer equivalents
   CheckBenchMemory(args, static_cast<double>(args.batch) * args.tasks *
                              (1.0 + 32.0 * args.channels * args.frame * args.frame /
                                         (16.0 * args.hidden * (args.layers + 1.0))));
-  agents::SacAeConfig config;
+  Config config;
   config.hidden_dim = args.hidden;
   config.num_layers = args.layers;
-  config.architecture = args.architecture;
+  if constexpr (!std::is_same_v<Config, agents::HipBmdpConfig>) {
+    config.architecture = args.architecture;
+  }
   config.disentangled_alpha = args.disentangled_alpha;
   config.seed = args.seed;
   ApplyThreads(args);
   const std::vector<int64_t> frames = {args.channels, args.frame, args.frame};
-  agents::SacAeLearner learner(config, args.obs_dim, args.action_dim, args.tasks, frames);
+  Learner learner(config, args.obs_dim, args.action_dim, args.tasks, frames);
   // Four random batches, cycled, so that data generation is not timed.
   at::Generator gen = at::detail::createCPUGenerator(args.seed + 1);
   const int64_t b = static_cast<int64_t>(args.batch) * args.tasks;
@@ -530,8 +541,7 @@ AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSize
        {"layers", args.layers},
        {"action_dim", args.action_dim},
        {"architecture", args.architecture},
-       {"unit", "one update (SAC on the encoder's features, one autoencoder step; actor and "
-                "targets every 2nd update, as the config's defaults)"},
+       {"unit", unit},
        {"updates_per_s", median},
        {"ms_per_update", 1000.0 / median},
        {"updates", rates},
@@ -544,6 +554,29 @@ AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSize
           << "\n";
   result.summary = summary.str();
   return result;
+}
+
+}  // namespace
+
+AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  return TimePixelUpdates<agents::SacAeLearner, agents::SacAeConfig>(
+      algo, args,
+      "one update (SAC on the encoder's features, one autoencoder step; actor and targets every "
+      "2nd update, as the config's defaults)");
+}
+
+AgentBenchResult BenchDeepMdpUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  return TimePixelUpdates<agents::DeepMdpLearner, agents::DeepMdpConfig>(
+      algo, args,
+      "one update (SAC on the encoder's features, transition and reward step, decoder step; "
+      "actor and targets every 2nd update)");
+}
+
+AgentBenchResult BenchHipBmdpUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  return TimePixelUpdates<agents::HipBmdpLearner, agents::HipBmdpConfig>(
+      algo, args,
+      "one update (DeepMDP's with the task parameters, the contrastive step; actor and targets "
+      "every 2nd update)");
 }
 
 }  // namespace manyworlds::experiments

@@ -56,6 +56,8 @@ AgentBenchResult BenchMamlUpdates(const std::string& algo, const AgentBenchSizes
 AgentBenchResult BenchPearlUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 AgentBenchResult BenchSacAeUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchDeepMdpUpdates(const std::string& algo, const AgentBenchSizes& sizes);
+AgentBenchResult BenchHipBmdpUpdates(const std::string& algo, const AgentBenchSizes& sizes);
 
 // ConfigError (CheckMemoryEstimate) if an update on `rows` rows at these
 // sizes cannot fit in memory; called before a learner is built.

@@ -3,7 +3,9 @@
 #include <memory>
 #include <utility>
 
+#include "manyworlds/agents/deepmdp/deepmdp.h"
 #include "manyworlds/agents/distral/distral.h"
+#include "manyworlds/agents/hipbmdp/hipbmdp.h"
 #include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/pearl/pearl_config.h"
 #include "manyworlds/agents/ppo/ppo.h"
@@ -107,7 +109,20 @@ const std::vector<AlgorithmInfo>& Algorithms() {
           "SAC-AE: SAC on pixel frames whose convolutional encoder a deconvolutional decoder's "
           "reconstruction loss also trains (Yarats et al. 2019, MTRL's sac_ae); multi-task as "
           "sac's architectures",
-          &MakeSacAeAlgorithm, &BenchSacAeUpdates, ObservationKind::kPixels),
+          &MakeSacAeAlgorithm, &BenchSacAeUpdates,
+          ObservationKind::kPixels),
+      Row<agents::DeepMdpConfig>(
+          "deepmdp", F::kOffPolicy, false, true,
+          "DeepMDP: SAC-AE whose latent also trains a latent transition and reward model, the "
+          "decoder drawing the next frame (Gelada et al. 2019, MTRL's deepmdp)",
+          &MakeDeepMdpAlgorithm, &BenchDeepMdpUpdates,
+          ObservationKind::kPixels),
+      Row<agents::HipBmdpConfig>(
+          "hipbmdp", F::kOffPolicy, false, true,
+          "HiP-BMDP: DeepMDP with a learned hidden parameter per task in the latent, trained by "
+          "the model losses and a contrastive loss (Zhang et al. 2021, MTRL's hipbmdp)",
+          &MakeHipBmdpAlgorithm, &BenchHipBmdpUpdates,
+          ObservationKind::kPixels),
   };
   return list;
 }

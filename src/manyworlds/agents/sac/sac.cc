@@ -165,6 +165,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   }
   if (arch_ == Arch::kTaskEncoder || arch_ == Arch::kMoe) {
     nn::TaskEncoderOptions encoder = nn::ConditioningTaskEncoderOptions(num_tasks, embed);
+    if (config.task_encoder_hidden > 0) encoder.hidden_dim = config.task_encoder_hidden;
+    encoder.num_layers = config.task_encoder_layers;
     encoder.pretrained = task_metadata;
     task_encoder_ = nn::TaskEncoder(encoder, generator_);
     task_encoder_optimizer_ =
@@ -318,7 +320,9 @@ std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> SacLearner::CriticGroup()
   std::vector<std::pair<nn::FlatModule*, nn::FlatAdam*>> group = {
       {critic_->online().get(), &critic_optimizer_}};
   if (encoder_) group.emplace_back(encoder_.get(), &encoder_optimizer_);
-  if (task_encoder_) group.emplace_back(task_encoder_.get(), &task_encoder_optimizer_);
+  if (task_encoder_ && config_.critic_trains_task_encoder) {
+    group.emplace_back(task_encoder_.get(), &task_encoder_optimizer_);
+  }
   if (pixel_encoder_) group.emplace_back(pixel_encoder_.get(), &pixel_encoder_optimizer_);
   return group;
 }
@@ -356,9 +360,12 @@ torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& observation,
     case Arch::kMultiHead:
     case Arch::kTaskTrunk:
       return obs;
-    case Arch::kTaskEncoder:
-      return torch::cat(
-          {obs, task_encoder_->Encode(params.task_encoder).index_select(0, task_index)}, -1);
+    case Arch::kTaskEncoder: {
+      const torch::Tensor z = config_.critic_trains_task_encoder
+                                  ? task_encoder_->Encode(params.task_encoder)
+                                  : task_encoder_->Encode(task_encoder_->detached_params());
+      return torch::cat({obs, z.index_select(0, task_index)}, -1);
+    }
     case Arch::kMoe: {
       // All task encodings (num_tasks, E) and mixture weights (num_tasks, K)
       // are tiny; rows are picked per sample. The selector reads the task

@@ -54,6 +54,13 @@ void SacConfig::Validate() const {
                       architecture + "'");
   }
   Require(task_embedding_dim > 0, "task_embedding_dim", "> 0", task_embedding_dim);
+  Require(task_encoder_hidden >= 0 && task_encoder_hidden <= 65536, "task_encoder_hidden",
+          "in [0, 65536] (0: task_embedding_dim)", task_encoder_hidden);
+  Require(task_encoder_layers >= 0 && task_encoder_layers <= 16, "task_encoder_layers",
+          "in [0, 16]", task_encoder_layers);
+  Require(critic_trains_task_encoder || architecture == "task_encoder",
+          "critic_trains_task_encoder", "true unless architecture is task_encoder",
+          critic_trains_task_encoder);
   Require(num_experts >= 1, "num_experts", ">= 1", num_experts);
   Require(encoder_dim > 0, "encoder_dim", "> 0", encoder_dim);
   Require(num_modules >= 1 && num_modules <= 64, "num_modules", "in [1, 64]", num_modules);

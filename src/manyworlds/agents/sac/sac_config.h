@@ -105,6 +105,14 @@ struct SacConfig {
   // mlp | multihead | task_encoder | moe | soft_modular | paco | moore
   std::string architecture = "mlp";
   int64_t task_embedding_dim = 50;   // task_encoder and moe
+  // The task encoder's MLP after its embedding (0: task_embedding_dim wide;
+  // MTRL's TaskEncoder: 2 layers of 50; HiP-BMDP's ThetaModel: 1 of 100).
+  int64_t task_encoder_hidden = 0;
+  int64_t task_encoder_layers = 2;
+  // false: the critic loss leaves the task encoder alone and the networks
+  // read its encodings detached; the learner's owner trains it (HiP-BMDP,
+  // whose losses_to_train omit the critic).
+  bool critic_trains_task_encoder = true;
   int64_t num_experts = 4;  // moe, moore (CARE's and MOORE's MT10 commands use 4)
   int64_t encoder_dim = 50;          // moe: output (and hidden) width of the experts
   bool pcgrad = false;
@@ -147,7 +155,8 @@ struct SacConfig {
                             adam_beta2, discount, tau, init_temperature, batch_size, target_entropy,
                             disentangled_alpha, log_std_min, log_std_max, actor_update_freq,
                             critic_target_update_freq, max_critic_loss, seed, architecture,
-                            task_embedding_dim, num_experts, encoder_dim, pcgrad, gradnorm,
+                            task_embedding_dim, task_encoder_hidden, task_encoder_layers,
+                            critic_trains_task_encoder, num_experts, encoder_dim, pcgrad, gradnorm,
                             gradnorm_alpha, gradnorm_lr, num_modules,
                             module_layers, module_hidden, routing_layers, routing_hidden,
                             num_param_sets, paco_reset_threshold, task_reweight, task_metadata,

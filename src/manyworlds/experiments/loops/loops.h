@@ -31,6 +31,8 @@ std::unique_ptr<Algorithm> MakeOffPolicyAlgorithm(const AlgorithmSetup& setup,
 std::unique_ptr<Algorithm> MakeSacAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup);
+std::unique_ptr<Algorithm> MakeDeepMdpAlgorithm(const AlgorithmSetup& setup);
+std::unique_ptr<Algorithm> MakeHipBmdpAlgorithm(const AlgorithmSetup& setup);
 std::unique_ptr<Algorithm> MakePearlAlgorithm(const AlgorithmSetup& setup);
 // The on-policy loop around `learner`, collecting `rounds` rounds of every
 // env per update.

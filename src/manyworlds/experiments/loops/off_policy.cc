@@ -15,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "manyworlds/agents/deepmdp/deepmdp.h"
 #include "manyworlds/agents/distral/distral.h"
+#include "manyworlds/agents/hipbmdp/hipbmdp.h"
 #include "manyworlds/agents/replay_buffer.h"
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac_ae/sac_ae.h"
@@ -264,6 +266,24 @@ std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup) {
       setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
         return std::make_unique<agents::SacAeLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
                                                       s.num_tasks, s.facts.pixel_shape);
+      });
+}
+
+std::unique_ptr<Algorithm> MakeDeepMdpAlgorithm(const AlgorithmSetup& setup) {
+  const agents::DeepMdpConfig agent = SeededAgentConfig<agents::DeepMdpConfig>(setup);
+  return MakeOffPolicyAlgorithm(
+      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
+        return std::make_unique<agents::DeepMdpLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
+                                                        s.num_tasks, s.facts.pixel_shape);
+      });
+}
+
+std::unique_ptr<Algorithm> MakeHipBmdpAlgorithm(const AlgorithmSetup& setup) {
+  const agents::HipBmdpConfig agent = SeededAgentConfig<agents::HipBmdpConfig>(setup);
+  return MakeOffPolicyAlgorithm(
+      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
+        return std::make_unique<agents::HipBmdpLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
+                                                        s.num_tasks, s.facts.pixel_shape);
       });
 }
 
