@@ -110,6 +110,27 @@ TEST(HipBmdpTest, ResumeFromACheckpointIsExactAndUpdatesReportTheirLosses) {
                            resumed.sac().pixel_encoder()->flat()));
 }
 
+// On held-out tasks (a meta-test's) every row reads the mean task parameter, MTRL's mean_train:
+// the task index no longer changes the action; on training tasks it does.
+TEST(HipBmdpTest, HeldOutTasksActWithTheMeanTaskParameter) {
+  HipBmdpLearner learner(Tiny<HipBmdpConfig>(), 4, 2, 3, kFrames);
+  const Batch batch = SquareBatch(2, 1, 5);
+  const torch::Tensor frames = batch.pixels[0].reshape({1, 3, 16, 16}).expand({3, 3, 16, 16});
+  const torch::Tensor tasks = torch::arange(3, torch::kInt64);
+  Actor& actor = learner.AsActor();
+  ActorState training = actor.Initial(3);
+  const torch::Tensor per_task =
+      actor.Act(frames, tasks, training, ActMode::kDeterministic).action.clone();
+  ActorState held_out = actor.Initial(3);
+  held_out.held_out_tasks = true;
+  const torch::Tensor mean =
+      actor.Act(frames, tasks, held_out, ActMode::kDeterministic).action.clone();
+  EXPECT_FALSE(torch::allclose(per_task[0], per_task[1]));
+  EXPECT_TRUE(torch::equal(mean[0], mean[1]));
+  EXPECT_TRUE(torch::equal(mean[0], mean[2]));
+  EXPECT_FALSE(torch::allclose(mean[0], per_task[0]));
+}
+
 TEST(HipBmdpTest, ConfigsThatCannotTrainThetaAreRefused) {
   HipBmdpConfig c = Tiny<HipBmdpConfig>();
   c.architecture = "mlp";

@@ -52,6 +52,11 @@ struct ActorState {
   // the episodes acted here, so an actor may keep what it computed for them
   // (MAML keeps its differentiable inner step from Adapt for the update).
   bool learning = false;
+  // True in a meta-test on held-out tasks: task_index numbers the held-out
+  // tasks, not training ones, so an actor conditioned on learned per-task
+  // encodings uses what it learned across tasks instead (SAC's task_encoder,
+  // HiP-BMDP: the mean of the trained encodings, MTRL's mean_train).
+  bool held_out_tasks = false;
 };
 
 // The generator an actor samples from for this state.
@@ -125,9 +130,11 @@ inline bool RestartUnlessSized(Actor& actor, ActorState& state, const std::strin
   if (t.defined() && t.size(0) == num_envs) return false;
   std::optional<at::Generator> own = state.generator;
   const bool learning = state.learning;
+  const bool held_out = state.held_out_tasks;
   state = actor.Initial(num_envs);
   state.generator = own;
   state.learning = learning;
+  state.held_out_tasks = held_out;
   return true;
 }
 

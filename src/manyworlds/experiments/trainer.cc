@@ -152,6 +152,7 @@ void Trainer::Impl::Setup(const TrainConfig& c, TaskSet t, std::optional<TaskSet
                                            MixSeed(config.experiment.seed, kMetaTestSeedStream),
                                            config.experiment.num_threads);
     CheckEvalFacts(meta_test->facts(), facts);
+    meta_test->SetHeldOut(true);
     meta_train = std::make_unique<MetaTestProtocol>(
         tasks, registry, config.meta_test, MixSeed(config.experiment.seed, kMetaTrainSeedStream),
         config.experiment.num_threads, &facts);

@@ -16,10 +16,11 @@
 //
 // Differences from MTRL: MTRL's embedding table has padding_idx 0, so the
 // task with index 0 keeps a zero embedding that never trains (its MT-HiPBMDP
-// envs index from 1, our tasks from 0); ours trains every row. Evaluating
-// held-out variants with the mean of the trained thetas (MTRL's mean_train
-// strategy for its interpolation and extrapolation envs) is not built yet:
-// our evaluation scores the training tasks.
+// envs index from 1, our tasks from 0); ours trains every row. Held-out
+// tasks (the trainer's meta-test, e.g. MTRL's interpolation and
+// extrapolation finger sizes in configs/finger_spin_hipbmdp.yaml) are acted
+// on with the mean of the trained thetas, MTRL's mean_train
+// (ActorState::held_out_tasks).
 #ifndef MANYWORLDS_AGENTS_HIPBMDP_HIPBMDP_H_
 #define MANYWORLDS_AGENTS_HIPBMDP_HIPBMDP_H_
 

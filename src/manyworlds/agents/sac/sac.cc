@@ -345,7 +345,7 @@ torch::Tensor SacLearner::NetworkInput(const torch::Tensor& obs, const torch::Te
 
 torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& observation,
                                            const torch::Tensor& task_index, bool target,
-                                           const ShardParams& params) const {
+                                           const ShardParams& params, bool mean_task) const {
   // frames: the encoder's features are the observation (the target critics read the target
   // encoder's)
   const torch::Tensor obs =
@@ -364,6 +364,7 @@ torch::Tensor SacLearner::NetworkInputWith(const torch::Tensor& observation,
       const torch::Tensor z = config_.critic_trains_task_encoder
                                   ? task_encoder_->Encode(params.task_encoder)
                                   : task_encoder_->Encode(task_encoder_->detached_params());
+      if (mean_task) return torch::cat({obs, z.mean(0, true).expand({obs.size(0), -1})}, -1);
       return torch::cat({obs, z.index_select(0, task_index)}, -1);
     }
     case Arch::kMoe: {
@@ -694,6 +695,11 @@ Metrics SacLearner::Update(const Batch& batch) {
 
 torch::Tensor SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
                               bool deterministic) {
+  return ActOn(obs, task_index, deterministic, /*mean_task=*/false);
+}
+
+torch::Tensor SacLearner::ActOn(const torch::Tensor& obs, const torch::Tensor& task_index,
+                                bool deterministic, bool mean_task) {
   c10::InferenceMode inference;
   if (pixel_encoder_) {
     // frames (B, C, H, W) or one (C, H, W); the encoder checks the shape
@@ -705,7 +711,8 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& tas
     const torch::Tensor task =
         single && task_index.defined() ? task_index.reshape({-1}) : task_index;
     CheckTaskIndex(task, x.size(0), num_tasks_, "SacLearner::Act");
-    const nn::PolicyOutput out = actor_->forward(NetworkInput(x, task), Heads(task));
+    const nn::PolicyOutput out =
+        actor_->forward(NetworkInputWith(x, task, false, ParamsOf(0), mean_task), Heads(task));
     torch::Tensor action =
         deterministic ? torch::tanh(out.mean)
                       : nn::SampleSquashedGaussian(out.mean, out.log_std, generator_).action;
@@ -721,8 +728,8 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& tas
                                                             : task_index;
   CheckTaskIndex(task, x.size(0), num_tasks_, "SacLearner::Act");
   const torch::Tensor heads = Heads(task);
-  const nn::PolicyOutput out =
-      actor_->forward(NetworkInput(x.to(torch::kFloat32), task), heads);
+  const nn::PolicyOutput out = actor_->forward(
+      NetworkInputWith(x.to(torch::kFloat32), task, false, ParamsOf(0), mean_task), heads);
   torch::Tensor action = deterministic
                              ? torch::tanh(out.mean)
                              : nn::SampleSquashedGaussian(out.mean, out.log_std, generator_).action;
@@ -739,9 +746,9 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, bool deterministic) {
 }
 
 ActOutput SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
-                          ActorState&, ActMode mode) {
+                          ActorState& state, ActMode mode) {
   ActOutput out;
-  out.action = Act(obs, task_index, mode == ActMode::kDeterministic);
+  out.action = ActOn(obs, task_index, mode == ActMode::kDeterministic, state.held_out_tasks);
   return out;
 }
 

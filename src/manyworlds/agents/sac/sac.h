@@ -134,7 +134,11 @@ class SacLearner : public OffPolicyLearner, public Actor {
                     bool deterministic);
   // Single-task form (task 0); throws Error when num_tasks > 1.
   torch::Tensor Act(const torch::Tensor& obs, bool deterministic);
-  // The Actor form (no log-probabilities; SAC's actions lie in (-1, 1)).
+  // The Actor form (no log-probabilities; SAC's actions lie in (-1, 1)). On
+  // held-out tasks (state.held_out_tasks) the task_encoder architecture
+  // reads the mean of the trained task encodings for every row, as MTRL's
+  // HiP-BMDP evaluates its interpolation and extrapolation envs (mean_train);
+  // the other architectures read task_index as a training task's.
   ActOutput Act(const torch::Tensor& obs, const torch::Tensor& task_index, ActorState& state,
                 ActMode mode) override;
   Actor& AsActor() override { return *this; }
@@ -229,8 +233,13 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // Adds the replicas' gradients into the modules' flat gradients, in
   // shard order.
   void ReduceShardGrads(int shards, bool critic_group);
+  // mean_task: every row reads the mean of the task encodings (task_encoder;
+  // held-out tasks).
   torch::Tensor NetworkInputWith(const torch::Tensor& obs, const torch::Tensor& task_index,
-                                 bool target, const ShardParams& params) const;
+                                 bool target, const ShardParams& params,
+                                 bool mean_task = false) const;
+  torch::Tensor ActOn(const torch::Tensor& obs, const torch::Tensor& task_index,
+                      bool deterministic, bool mean_task);
   // Per-sample temperatures (B), or (1) when shared.
   torch::Tensor SampleAlpha(const torch::Tensor& task_index) const;
   // Per-sample loss weights (B): task_reweight's, times 0 for masked tasks,

@@ -248,6 +248,7 @@ MetaTestResult MetaTestProtocol::RunPerVariation(agents::Actor& actor) {
 
   for (int64_t first = 0; first < config_.trials_per_task; first += slots_) {
     agents::ActorState state = actor.Initial(n);
+    state.held_out_tasks = held_out_;
     // sampled actions from the protocol's own stream
     state.generator = at::make_generator<at::CPUGeneratorImpl>(MixSeed(seed_, first));
     std::vector<char> in_trial(n);

@@ -143,6 +143,10 @@ class MetaTestProtocol : public EvaluationProtocol {
 
   MetaTestResult RunMetaTest(agents::Actor& actor);
   const EnvFacts& facts() const { return facts_; }
+  // Whether the tasks are held out from training (the trainer's meta-test;
+  // false for the same protocol on the training tasks): actors are told so
+  // (ActorState::held_out_tasks).
+  void SetHeldOut(bool held_out) { held_out_ = held_out; }
   // Env i of the protocol (PolicyActor's envs).
   Env& env(int64_t i) { return collector_->env(i); }
   EvalResult Run(agents::Actor& actor) override { return RunMetaTest(actor).AsEvalResult(); }
@@ -156,6 +160,7 @@ class MetaTestProtocol : public EvaluationProtocol {
   EnvFacts facts_;
   uint64_t seed_;
   int64_t slots_;  // per_variation: envs per task in one wave; else envs per task
+  bool held_out_ = false;
   std::unique_ptr<Collector> collector_;
 };
 

@@ -128,6 +128,7 @@ MetaTestResult MetaTestProtocol::RunMetalearningEvaluation(agents::Actor& actor)
       return Collector::EnvStart{env_seed, MixSeed(env_seed, 1), pickers[i].Next()};
     });
     agents::ActorState state = actor.Initial(n);
+    state.held_out_tasks = held_out_;
     state.generator = at::make_generator<at::CPUGeneratorImpl>(MixSeed(seed_, round));
     // 2. adaptation
     collector_->TerminateOnSuccess(false);
