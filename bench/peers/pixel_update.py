@@ -10,7 +10,8 @@ the action); log std tanh-bounded to [-10, 2]. One update:
 
 - SAC on the features: critic target with the actor on the online features and the target
   critics on a target encoder's; critic loss MSE(Q1, y) + MSE(Q2, y) into critics and encoder
-  (one Adam over both, lr 1e-3); every 2nd update the actor (features detached) and the
+  (one Adam over both, lr 1e-3); every 2nd update the actor (on the features of the encoder
+  just stepped, computed again without gradients, as MTRL's actor does) and the
   temperature (Adam 1e-4), then the Polyak updates of critics (tau 0.01) and encoder (0.05);
 - sac_ae: reconstruction MSE(decoder(h), preprocess(o)) + 1e-6 mean 0.5 |h|^2 into encoder
   (its own Adam, 1e-3) and a deconvolutional decoder (Adam 1e-3, weight decay 1e-7);
@@ -189,7 +190,10 @@ def main():
         critic_loss.backward()
         critic_opt.step()
         if count[0] % 2 == 0:
-            hd = h.detach()
+            # the actor reads the encoder after the critic's step, detached (MTRL: the actor's
+            # forward with detach_encoder=True; manyworlds: the same)
+            with torch.no_grad():
+                hd = with_theta(enc(o))
             pi, logp = policy(hd)
             xp = torch.cat([hd, pi], 1)
             actor_loss = (alpha * logp - torch.min(q1(xp), q2(xp)).squeeze(1)).mean()

@@ -540,7 +540,7 @@ AgentBenchResult TimePixelUpdates(const std::string& algo, const AgentBenchSizes
        {"hidden", args.hidden},
        {"layers", args.layers},
        {"action_dim", args.action_dim},
-       {"architecture", args.architecture},
+       {"architecture", config.architecture},
        {"unit", unit},
        {"updates_per_s", median},
        {"ms_per_update", 1000.0 / median},
