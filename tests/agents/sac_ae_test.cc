@@ -214,6 +214,28 @@ TEST(SacAeTest, TheAutoencoderLearnsTheFrames) {
   EXPECT_LT(after, 0.5 * constant) << "before " << before << ", constant frame " << constant;
 }
 
+// PCGrad and GradNorm combine with the pixel learners (MTRL's pcgrad_sac_ae, gradnorm agents):
+// SAC's critic step, encoder included, goes through them.
+TEST(SacAeTest, PcGradAndGradNormCombineWithIt) {
+  for (const bool gradnorm : {false, true}) {
+    SacAeConfig c = Tiny();
+    c.pcgrad = !gradnorm;
+    c.gradnorm = gradnorm;
+    SacAeLearner learner(c, 4, 2, 2, kFrames);
+    Batch batch = PixelBatch(16, 30);
+    batch.task_index = torch::arange(16, torch::kInt64) % 2;
+    const torch::Tensor before = learner.sac().pixel_encoder()->flat().clone();
+    Metrics m;
+    for (int i = 0; i < 3; ++i) m = learner.Update(batch);
+    EXPECT_TRUE(m.Contains(gradnorm ? "gradnorm_loss" : "pcgrad_conflicts")) << gradnorm;
+    EXPECT_TRUE(m.Contains("ae_loss"));
+    EXPECT_FALSE(torch::equal(before, learner.sac().pixel_encoder()->flat()));
+    if (gradnorm) {
+      EXPECT_FALSE(torch::equal(learner.sac().gradnorm_weights(true), torch::ones({2})));
+    }
+  }
+}
+
 TEST(SacAeTest, ResumeFromACheckpointIsExact) {
   std::vector<Batch> batches;
   for (uint64_t i = 0; i < 6; ++i) batches.push_back(PixelBatch(16, 20 + i));
