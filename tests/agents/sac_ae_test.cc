@@ -179,7 +179,7 @@ TEST(SacAeConfigTest, BadValuesNameTheFieldAndFramesAreRequired) {
     SacAeLearner learner(c, 4, 2, 1, kFrames);
     FAIL();
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("SacAeConfig.decoder_lr must be finite and > 0"),
+    EXPECT_NE(std::string(e.what()).find("'agent.decoder_lr' must be finite and > 0"),
               std::string::npos)
         << e.what();
   }

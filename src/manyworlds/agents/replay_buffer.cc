@@ -94,13 +94,7 @@ ReplayBuffer::ReplayBuffer(int64_t capacity, int64_t obs_dim, int64_t action_dim
 
 void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const float> action,
                        float reward, std::span<const float> next_obs, bool done) {
-  if (task < 0 || task >= num_tasks_) {
-    throw Error("ReplayBuffer::Add: task " + std::to_string(task) + " is outside [0, " +
-                std::to_string(num_tasks_) + ")");
-  }
-  CheckSize("obs", obs.size(), obs_dim_);
-  CheckSize("action", action.size(), action_dim_);
-  CheckSize("next_obs", next_obs.size(), obs_dim_);
+  CheckRow(task, obs, action, next_obs);
   if (pixel_size_ > 0) {
     throw Error("ReplayBuffer::Add: this buffer stores frames (pixel_size " +
                 std::to_string(pixel_size_) + "); pass them");
@@ -111,13 +105,7 @@ void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const
 void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const float> action,
                        float reward, std::span<const float> next_obs, bool done,
                        std::span<const uint8_t> pixels, std::span<const uint8_t> next_pixels) {
-  if (task < 0 || task >= num_tasks_) {
-    throw Error("ReplayBuffer::Add: task " + std::to_string(task) + " is outside [0, " +
-                std::to_string(num_tasks_) + ")");
-  }
-  CheckSize("obs", obs.size(), obs_dim_);
-  CheckSize("action", action.size(), action_dim_);
-  CheckSize("next_obs", next_obs.size(), obs_dim_);
+  CheckRow(task, obs, action, next_obs);
   if (pixel_size_ == 0) throw Error("ReplayBuffer::Add: this buffer stores no frames");
   CheckSize("pixels", pixels.size(), pixel_size_);
   CheckSize("next_pixels", next_pixels.size(), pixel_size_);
@@ -127,6 +115,18 @@ void ReplayBuffer::Add(int64_t task, std::span<const float> obs, std::span<const
   std::memcpy(storage_.next_pixels.data_ptr<uint8_t>() + row * pixel_size_, next_pixels.data(),
               next_pixels.size());
   AddRow(task, obs, action, reward, next_obs, done);
+}
+
+void ReplayBuffer::CheckRow(int64_t task, std::span<const float> obs,
+                            std::span<const float> action,
+                            std::span<const float> next_obs) const {
+  if (task < 0 || task >= num_tasks_) {
+    throw Error("ReplayBuffer::Add: task " + std::to_string(task) + " is outside [0, " +
+                std::to_string(num_tasks_) + ")");
+  }
+  CheckSize("obs", obs.size(), obs_dim_);
+  CheckSize("action", action.size(), action_dim_);
+  CheckSize("next_obs", next_obs.size(), obs_dim_);
 }
 
 void ReplayBuffer::AddRow(int64_t task, std::span<const float> obs, std::span<const float> action,

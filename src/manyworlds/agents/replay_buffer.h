@@ -136,6 +136,9 @@ class ReplayBuffer {
     torch::Tensor next_pixels;
   };
   static Storage Allocate(int64_t rows, int64_t obs_dim, int64_t action_dim, int64_t pixel_size);
+  // Error on a task out of range or a row of the wrong size.
+  void CheckRow(int64_t task, std::span<const float> obs, std::span<const float> action,
+                std::span<const float> next_obs) const;
   void AddRow(int64_t task, std::span<const float> obs, std::span<const float> action,
               float reward, std::span<const float> next_obs, bool done);
   void SavePixels(std::ostream& out) const;

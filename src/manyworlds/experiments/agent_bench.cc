@@ -437,16 +437,12 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
 
 namespace manyworlds::experiments {
 
-AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& args) {
-  CheckBenchMemory(args, static_cast<double>(args.batch) * args.tasks);
-  agents::DistralConfig config;
-  config.hidden_dim = args.hidden;
-  config.num_layers = args.layers;
-  config.seed = args.seed;
-  ApplyThreads(args);
-  agents::DistralLearner learner(config, args.obs_dim, args.action_dim, args.tasks);
-  // Four random batches of --batch rows per task, cycled, so that data
-  // generation is not timed.
+namespace {
+
+// Four random replay batches of --batch rows per task (task index row % tasks), cycled by the
+// off-policy benches so that data generation is not timed; with pixel_size > 0 also random
+// frames of that many bytes.
+std::vector<agents::Batch> RandomReplayBatches(const AgentBenchSizes& args, int64_t pixel_size) {
   at::Generator gen = at::detail::createCPUGenerator(args.seed + 1);
   const int64_t b = static_cast<int64_t>(args.batch) * args.tasks;
   std::vector<agents::Batch> batches;
@@ -458,8 +454,26 @@ AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSi
     batch.next_obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
     batch.done = torch::zeros({b});
     batch.task_index = torch::arange(b, torch::kInt64) % args.tasks;
+    if (pixel_size > 0) {
+      batch.pixels = torch::randint(0, 256, {b, pixel_size}, gen, torch::kUInt8);
+      batch.next_pixels = torch::randint(0, 256, {b, pixel_size}, gen, torch::kUInt8);
+    }
     batches.push_back(std::move(batch));
   }
+  return batches;
+}
+
+}  // namespace
+
+AgentBenchResult BenchDistralUpdates(const std::string& algo, const AgentBenchSizes& args) {
+  CheckBenchMemory(args, static_cast<double>(args.batch) * args.tasks);
+  agents::DistralConfig config;
+  config.hidden_dim = args.hidden;
+  config.num_layers = args.layers;
+  config.seed = args.seed;
+  ApplyThreads(args);
+  agents::DistralLearner learner(config, args.obs_dim, args.action_dim, args.tasks);
+  const std::vector<agents::Batch> batches = RandomReplayBatches(args, 0);
   int next = 0;
   const std::vector<double> rates =
       TimeRepeats(args, 3, [&] { learner.Update(batches[static_cast<size_t>(next++ % 4)]); });
@@ -510,23 +524,9 @@ AgentBenchResult TimePixelUpdates(const std::string& algo, const AgentBenchSizes
   ApplyThreads(args);
   const std::vector<int64_t> frames = {args.channels, args.frame, args.frame};
   Learner learner(config, args.obs_dim, args.action_dim, args.tasks, frames);
-  // Four random batches, cycled, so that data generation is not timed.
-  at::Generator gen = at::detail::createCPUGenerator(args.seed + 1);
   const int64_t b = static_cast<int64_t>(args.batch) * args.tasks;
-  const int64_t pixels = static_cast<int64_t>(args.channels) * args.frame * args.frame;
-  std::vector<agents::Batch> batches;
-  for (int i = 0; i < 4; ++i) {
-    agents::Batch batch;
-    batch.obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
-    batch.action = torch::rand({b, args.action_dim}, gen, torch::kFloat32) * 2.0 - 1.0;
-    batch.reward = torch::randn({b}, gen, torch::kFloat32);
-    batch.next_obs = torch::randn({b, args.obs_dim}, gen, torch::kFloat32);
-    batch.done = torch::zeros({b});
-    batch.task_index = torch::arange(b, torch::kInt64) % args.tasks;
-    batch.pixels = torch::randint(0, 256, {b, pixels}, gen, torch::kUInt8);
-    batch.next_pixels = torch::randint(0, 256, {b, pixels}, gen, torch::kUInt8);
-    batches.push_back(std::move(batch));
-  }
+  const std::vector<agents::Batch> batches = RandomReplayBatches(
+      args, static_cast<int64_t>(args.channels) * args.frame * args.frame);
   int next = 0;
   const std::vector<double> rates =
       TimeRepeats(args, 3, [&] { learner.Update(batches[static_cast<size_t>(next++ % 4)]); });

@@ -1,6 +1,5 @@
 #include "manyworlds/agents/deepmdp/deepmdp.h"
 
-#include <sstream>
 #include <string>
 
 #include "manyworlds/agents/archive_io.h"
@@ -8,41 +7,13 @@
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::agents {
-namespace {
-
-template <typename T>
-void Require(bool ok, const char* field, const char* allowed, T value) {
-  if (ok) return;
-  std::ostringstream msg;
-  msg << "DeepMdpConfig." << field << " must be " << allowed << ", got " << value;
-  throw ConfigError(msg.str());
-}
-
-nn::AdamOptions Adam(const SacConfig& config, double lr, double weight_decay = 0.0) {
-  nn::AdamOptions options;
-  options.lr = lr;
-  options.beta1 = config.adam_beta1;
-  options.beta2 = config.adam_beta2;
-  options.weight_decay = weight_decay;
-  return options;
-}
-
-const std::vector<int64_t>& RequireFrames(const std::vector<int64_t>& frame_shape) {
-  if (frame_shape.empty()) {
-    throw ConfigError("DeepMDP and HiP-BMDP learn from pixel frames: give them the frame shape "
-                      "(the envs need obs=pixels)");
-  }
-  return frame_shape;
-}
-
-}  // namespace
 
 void DeepMdpConfig::Validate() const {
   SacAeConfig::Validate();
-  Require(transition_width >= 1 && transition_width <= 65536, "transition_width",
-          "in [1, 65536]", transition_width);
-  Require(reward_width >= 1 && reward_width <= 65536, "reward_width", "in [1, 65536]",
-          reward_width);
+  RequireField(transition_width >= 1 && transition_width <= 65536, "transition_width",
+               "in [1, 65536]", transition_width);
+  RequireField(reward_width >= 1 && reward_width <= 65536, "reward_width", "in [1, 65536]",
+               reward_width);
 }
 
 DeepMdpLearner::DeepMdpLearner(const DeepMdpConfig& config, int64_t obs_dim, int64_t action_dim,
@@ -50,13 +21,13 @@ DeepMdpLearner::DeepMdpLearner(const DeepMdpConfig& config, int64_t obs_dim, int
                                double contrastive_alpha)
     : config_(Validated(config)),
       contrastive_alpha_(contrastive_alpha),
-      sac_(config, obs_dim, action_dim, num_tasks, {}, RequireFrames(frame_shape)),
+      sac_(config, obs_dim, action_dim, num_tasks, {}, RequireFrameShape(frame_shape, "DeepMDP")),
       task_latent_(config.architecture == "task_encoder"),
-      encoder_optimizer_(sac_.pixel_encoder()->num_params(), Adam(config, config.encoder_lr)),
-      transition_optimizer_(0, Adam(config, config.decoder_lr)),
-      reward_optimizer_(0, Adam(config, config.decoder_lr)),
-      decoder_optimizer_(0, Adam(config, config.decoder_lr)),
-      task_encoder_optimizer_(0, Adam(config, config.encoder_lr)) {
+      encoder_optimizer_(sac_.pixel_encoder()->num_params(), SacAdamOptions(config, config.encoder_lr)),
+      transition_optimizer_(0, SacAdamOptions(config, config.decoder_lr)),
+      reward_optimizer_(0, SacAdamOptions(config, config.decoder_lr)),
+      decoder_optimizer_(0, SacAdamOptions(config, config.decoder_lr)),
+      task_encoder_optimizer_(0, SacAdamOptions(config, config.encoder_lr)) {
   if (contrastive_alpha > 0.0 && (!task_latent_ || config.critic_trains_task_encoder)) {
     throw ConfigError("the contrastive task loss needs architecture task_encoder with "
                       "critic_trains_task_encoder false (HiP-BMDP's setting)");
@@ -66,19 +37,14 @@ DeepMdpLearner::DeepMdpLearner(const DeepMdpConfig& config, int64_t obs_dim, int
   transition_ = TransitionModel(latent, action_dim, config.transition_width,
                                 config.probabilistic_transition, gen);
   reward_ = RewardDecoder(latent, config.reward_width, gen);
-  nn::PixelEncoderOptions pixels;
-  pixels.frame_shape = frame_shape;
-  pixels.num_layers = config.num_conv_layers;
-  pixels.num_filters = config.num_filters;
-  pixels.feature_dim = config.encoder_feature_dim;
-  decoder_ = nn::PixelDecoder(pixels, latent, gen);
-  const nn::AdamOptions decay = Adam(config, config.decoder_lr, config.decoder_weight_decay);
+  decoder_ = nn::PixelDecoder(SacPixelEncoderOptions(config, frame_shape), latent, gen);
+  const nn::AdamOptions decay = SacAdamOptions(config, config.decoder_lr, config.decoder_weight_decay);
   transition_optimizer_ = nn::FlatAdam(transition_->num_params(), decay);
   reward_optimizer_ = nn::FlatAdam(reward_->num_params(), decay);
   decoder_optimizer_ = nn::FlatAdam(decoder_->num_params(), decay);
   if (task_latent_) {
     task_encoder_optimizer_ =
-        nn::FlatAdam(sac_.task_encoder()->num_params(), Adam(config, config.encoder_lr));
+        nn::FlatAdam(sac_.task_encoder()->num_params(), SacAdamOptions(config, config.encoder_lr));
   }
 }
 
@@ -190,28 +156,26 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
   return metrics;
 }
 
+template <typename Archive, typename Self>
+void DeepMdpLearner::TransferModels(Archive& archive, Self& self) {
+  Transfer(archive, "transition", *self.transition_);
+  Transfer(archive, "reward_decoder", *self.reward_);
+  Transfer(archive, "decoder", *self.decoder_);
+  Transfer(archive, "model_encoder_optimizer", self.encoder_optimizer_);
+  Transfer(archive, "transition_optimizer", self.transition_optimizer_);
+  Transfer(archive, "reward_optimizer", self.reward_optimizer_);
+  Transfer(archive, "decoder_optimizer", self.decoder_optimizer_);
+  if (self.task_latent_) Transfer(archive, "theta_optimizer", self.task_encoder_optimizer_);
+}
+
 void DeepMdpLearner::Save(torch::serialize::OutputArchive& archive) const {
   sac_.Save(archive);
-  Transfer(archive, "transition", *transition_);
-  Transfer(archive, "reward_decoder", *reward_);
-  Transfer(archive, "decoder", *decoder_);
-  Transfer(archive, "model_encoder_optimizer", encoder_optimizer_);
-  Transfer(archive, "transition_optimizer", transition_optimizer_);
-  Transfer(archive, "reward_optimizer", reward_optimizer_);
-  Transfer(archive, "decoder_optimizer", decoder_optimizer_);
-  if (task_latent_) Transfer(archive, "theta_optimizer", task_encoder_optimizer_);
+  TransferModels(archive, *this);
 }
 
 void DeepMdpLearner::Load(torch::serialize::InputArchive& archive) {
   sac_.Load(archive);
-  Transfer(archive, "transition", *transition_);
-  Transfer(archive, "reward_decoder", *reward_);
-  Transfer(archive, "decoder", *decoder_);
-  Transfer(archive, "model_encoder_optimizer", encoder_optimizer_);
-  Transfer(archive, "transition_optimizer", transition_optimizer_);
-  Transfer(archive, "reward_optimizer", reward_optimizer_);
-  Transfer(archive, "decoder_optimizer", decoder_optimizer_);
-  if (task_latent_) Transfer(archive, "theta_optimizer", task_encoder_optimizer_);
+  TransferModels(archive, *this);
 }
 
 }  // namespace manyworlds::agents

@@ -85,6 +85,9 @@ class DeepMdpLearner : public OffPolicyLearner {
 
  private:
   void ZeroTaskEncoderGrad();
+  // The models and optimisers beside SAC's, in Save's order (Self is const for Save).
+  template <typename Archive, typename Self>
+  static void TransferModels(Archive& archive, Self& self);
 
   DeepMdpConfig config_;
   double contrastive_alpha_;

@@ -18,15 +18,13 @@ HipBmdpConfig::HipBmdpConfig() {
 
 void HipBmdpConfig::Validate() const {
   DeepMdpConfig::Validate();
-  if (!std::isfinite(contrastive_alpha) || contrastive_alpha < 0) {
-    throw ConfigError("HipBmdpConfig.contrastive_alpha must be finite and >= 0, got " +
-                      std::to_string(contrastive_alpha));
-  }
-  if (architecture != "task_encoder" || critic_trains_task_encoder) {
-    throw ConfigError("HipBmdpConfig.architecture must be task_encoder with "
-                      "critic_trains_task_encoder false (theta is trained by the model losses), "
-                      "got " + architecture);
-  }
+  RequireField(std::isfinite(contrastive_alpha) && contrastive_alpha >= 0, "contrastive_alpha",
+               "finite and >= 0", contrastive_alpha);
+  RequireField(architecture == "task_encoder" && !critic_trains_task_encoder, "architecture",
+               "task_encoder with critic_trains_task_encoder false (theta is trained by the "
+               "model losses)",
+               architecture + (critic_trains_task_encoder ? " (critic_trains_task_encoder true)"
+                                                          : ""));
 }
 
 HipBmdpLearner::HipBmdpLearner(const HipBmdpConfig& config, int64_t obs_dim, int64_t action_dim,

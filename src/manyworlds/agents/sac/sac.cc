@@ -21,13 +21,7 @@
 namespace manyworlds::agents {
 namespace {
 
-nn::AdamOptions Adam(const SacConfig& config, double lr) {
-  nn::AdamOptions options;
-  options.lr = lr;
-  options.beta1 = config.adam_beta1;
-  options.beta2 = config.adam_beta2;
-  return options;
-}
+nn::AdamOptions Adam(const SacConfig& config, double lr) { return SacAdamOptions(config, lr); }
 
 int64_t ArchCode(const std::string& architecture) {
   const std::vector<std::string>& names = SacArchitectures();
@@ -101,6 +95,34 @@ void TransferTensor(torch::serialize::InputArchive& archive, const char* key,
 
 }  // namespace
 
+nn::AdamOptions SacAdamOptions(const SacConfig& config, double lr, double weight_decay) {
+  nn::AdamOptions options;
+  options.lr = lr;
+  options.beta1 = config.adam_beta1;
+  options.beta2 = config.adam_beta2;
+  options.weight_decay = weight_decay;
+  return options;
+}
+
+nn::PixelEncoderOptions SacPixelEncoderOptions(const SacConfig& config,
+                                               const std::vector<int64_t>& frame_shape) {
+  nn::PixelEncoderOptions options;
+  options.frame_shape = frame_shape;
+  options.num_layers = config.num_conv_layers;
+  options.num_filters = config.num_filters;
+  options.feature_dim = config.encoder_feature_dim;
+  return options;
+}
+
+const std::vector<int64_t>& RequireFrameShape(const std::vector<int64_t>& frame_shape,
+                                              const char* learner) {
+  if (frame_shape.empty()) {
+    throw ConfigError(std::string(learner) + " learns from pixel frames: give it the frame shape "
+                      "(the envs need obs=pixels)");
+  }
+  return frame_shape;
+}
+
 torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& done,
                            const torch::Tensor& next_q, const torch::Tensor& next_log_prob,
                            const torch::Tensor& alpha, double discount) {
@@ -141,11 +163,7 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
   // Encoders first (fixed order of draws from the generator: pixel encoder,
   // task encoder, mixture encoder, actor, critics).
   if (!frame_shape_.empty()) {
-    nn::PixelEncoderOptions pixels;
-    pixels.frame_shape = frame_shape_;
-    pixels.num_layers = config.num_conv_layers;
-    pixels.num_filters = config.num_filters;
-    pixels.feature_dim = config.encoder_feature_dim;
+    const nn::PixelEncoderOptions pixels = SacPixelEncoderOptions(config, frame_shape_);
     pixel_encoder_ = nn::PixelEncoder(pixels, generator_);
     pixel_encoder_target_ = nn::PixelEncoder(pixels, generator_);
     pixel_encoder_target_->CopyFrom(*pixel_encoder_);

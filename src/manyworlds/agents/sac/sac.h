@@ -95,6 +95,16 @@ torch::Tensor SoftTdTarget(const torch::Tensor& reward, const torch::Tensor& don
                            const torch::Tensor& next_q, const torch::Tensor& next_log_prob,
                            const torch::Tensor& alpha, double discount);
 
+// Adam with the config's betas (every SAC-family optimiser).
+nn::AdamOptions SacAdamOptions(const SacConfig& config, double lr, double weight_decay = 0.0);
+// The pixel encoder of a config for frames of frame_shape (C, H, W).
+nn::PixelEncoderOptions SacPixelEncoderOptions(const SacConfig& config,
+                                               const std::vector<int64_t>& frame_shape);
+// frame_shape, or ConfigError naming `learner` when it is empty (a learner
+// that only learns from frames).
+const std::vector<int64_t>& RequireFrameShape(const std::vector<int64_t>& frame_shape,
+                                              const char* learner);
+
 // Another policy's log-density of squashed actions a = tanh(u) at raw
 // observations obs (B, obs_dim), u (B, A) -> (B); differentiable in u.
 // Called from several threads at once when updates are sharded.

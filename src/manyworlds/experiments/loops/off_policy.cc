@@ -260,31 +260,31 @@ std::unique_ptr<Algorithm> MakeDistralAlgorithm(const AlgorithmSetup& setup) {
       });
 }
 
-std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup) {
-  const agents::SacAeConfig agent = SeededAgentConfig<agents::SacAeConfig>(setup);
+namespace {
+
+// The off-policy loop around a pixel learner Learner(config, obs_dim, action_dim, tasks, frames).
+template <class Learner, class Config>
+std::unique_ptr<Algorithm> MakeFramesAlgorithm(const AlgorithmSetup& setup) {
+  const Config agent = SeededAgentConfig<Config>(setup);
   return MakeOffPolicyAlgorithm(
       setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
-        return std::make_unique<agents::SacAeLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
-                                                      s.num_tasks, s.facts.pixel_shape);
+        return std::make_unique<Learner>(agent, s.facts.obs_dim, s.facts.action_dim, s.num_tasks,
+                                         s.facts.pixel_shape);
       });
+}
+
+}  // namespace
+
+std::unique_ptr<Algorithm> MakeSacAeAlgorithm(const AlgorithmSetup& setup) {
+  return MakeFramesAlgorithm<agents::SacAeLearner, agents::SacAeConfig>(setup);
 }
 
 std::unique_ptr<Algorithm> MakeDeepMdpAlgorithm(const AlgorithmSetup& setup) {
-  const agents::DeepMdpConfig agent = SeededAgentConfig<agents::DeepMdpConfig>(setup);
-  return MakeOffPolicyAlgorithm(
-      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
-        return std::make_unique<agents::DeepMdpLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
-                                                        s.num_tasks, s.facts.pixel_shape);
-      });
+  return MakeFramesAlgorithm<agents::DeepMdpLearner, agents::DeepMdpConfig>(setup);
 }
 
 std::unique_ptr<Algorithm> MakeHipBmdpAlgorithm(const AlgorithmSetup& setup) {
-  const agents::HipBmdpConfig agent = SeededAgentConfig<agents::HipBmdpConfig>(setup);
-  return MakeOffPolicyAlgorithm(
-      setup, {agent.hidden_dim, agent.num_layers}, [agent](const AlgorithmSetup& s) {
-        return std::make_unique<agents::HipBmdpLearner>(agent, s.facts.obs_dim, s.facts.action_dim,
-                                                        s.num_tasks, s.facts.pixel_shape);
-      });
+  return MakeFramesAlgorithm<agents::HipBmdpLearner, agents::HipBmdpConfig>(setup);
 }
 
 }  // namespace manyworlds::experiments
