@@ -106,6 +106,30 @@ TEST(LearningTest, DeepMdpPredictsRewardsFromRenderedFrames) {
   fs::remove_all(dir);
 }
 
+// SAC learns to reach from pixels alone: Meta-World reach from 32 x 32 frames
+// (configs/reach_pixels_sac.yaml, 3,000 steps, about 75 s), its deterministic return more than
+// twice a random policy's (seeds 1 and 2 gave 209 and 190 at that budget, random about 65-85).
+TEST(LearningTest, PixelSacLearnsToReachFromFrames) {
+  const fs::path dir = Scratch("sac_pixels");
+  TrainConfig config = TrainConfig::Load(
+      SourceDir() / "configs/reach_pixels_sac.yaml",
+      {"experiment.run_dir=" + dir.string(), "experiment.steps_per_task=3000",
+       "experiment.eval_every=0", "experiment.eval_episodes=10"});
+  Trainer trainer = Trainer::Create(config);
+  const TrainSummary summary = trainer.Run();
+  ASSERT_TRUE(summary.finished);
+  ASSERT_TRUE(summary.final_eval.has_value());
+  Evaluator evaluator(trainer.tasks(), DefaultRegistry(), 10, 99, 1);
+  at::Generator gen = at::detail::createCPUGenerator(3);
+  const EvalResult random = evaluator.Run([&](const torch::Tensor& obs, const torch::Tensor&) {
+    return torch::rand({obs.size(0), 4}, gen) * 2 - 1;
+  });
+  std::cout << "reach from 32 x 32 frames: learned return " << summary.final_eval->mean_return
+            << ", random " << random.mean_return << "; " << summary.wall_s << " s\n";
+  EXPECT_GT(summary.final_eval->mean_return, 2.0 * random.mean_return);
+  fs::remove_all(dir);
+}
+
 TEST(LearningTest, SacSolvesPointNav) {
   const fs::path dir = Scratch("single");
   TrainConfig config = TrainConfig::Load(SourceDir() / "configs/point_nav_sac.yaml",
