@@ -719,35 +719,22 @@ torch::Tensor SacLearner::Act(const torch::Tensor& obs, const torch::Tensor& tas
 torch::Tensor SacLearner::ActOn(const torch::Tensor& obs, const torch::Tensor& task_index,
                                 bool deterministic, bool mean_task) {
   c10::InferenceMode inference;
-  if (pixel_encoder_) {
-    // frames (B, C, H, W) or one (C, H, W); the encoder checks the shape
-    const bool single = obs.dim() == 3;
-    const torch::Tensor x = single ? obs.unsqueeze(0) : obs;
-    if (x.dim() != 4) {
-      throw Error("SacLearner::Act: this learner acts on frames (B, C, H, W) or (C, H, W)");
-    }
-    const torch::Tensor task =
-        single && task_index.defined() ? task_index.reshape({-1}) : task_index;
-    CheckTaskIndex(task, x.size(0), num_tasks_, "SacLearner::Act");
-    const nn::PolicyOutput out =
-        actor_->forward(NetworkInputWith(x, task, false, ParamsOf(0), mean_task), Heads(task));
-    torch::Tensor action =
-        deterministic ? torch::tanh(out.mean)
-                      : nn::SampleSquashedGaussian(out.mean, out.log_std, generator_).action;
-    return single ? action.squeeze(0) : action;
-  }
-  const bool single = obs.dim() == 1;
+  // frames (B, C, H, W) or one (C, H, W), whose size the encoder checks; else (B, obs_dim) or one
+  const bool frames = static_cast<bool>(pixel_encoder_);
+  const bool single = obs.dim() == (frames ? 3 : 1);
   const torch::Tensor x = single ? obs.unsqueeze(0) : obs;
-  if (x.dim() != 2 || x.size(1) != obs_dim_) {
-    throw Error("SacLearner::Act: obs must be (B, " + std::to_string(obs_dim_) + ") or (" +
-                std::to_string(obs_dim_) + ")");
+  if (frames ? x.dim() != 4 : (x.dim() != 2 || x.size(1) != obs_dim_)) {
+    throw Error(frames ? std::string("SacLearner::Act: this learner acts on frames (B, C, H, W) "
+                                     "or (C, H, W)")
+                       : "SacLearner::Act: obs must be (B, " + std::to_string(obs_dim_) +
+                             ") or (" + std::to_string(obs_dim_) + ")");
   }
   const torch::Tensor task = single && task_index.defined() ? task_index.reshape({-1})
                                                             : task_index;
   CheckTaskIndex(task, x.size(0), num_tasks_, "SacLearner::Act");
-  const torch::Tensor heads = Heads(task);
   const nn::PolicyOutput out = actor_->forward(
-      NetworkInputWith(x.to(torch::kFloat32), task, false, ParamsOf(0), mean_task), heads);
+      NetworkInputWith(frames ? x : x.to(torch::kFloat32), task, false, ParamsOf(0), mean_task),
+      Heads(task));
   torch::Tensor action = deterministic
                              ? torch::tanh(out.mean)
                              : nn::SampleSquashedGaussian(out.mean, out.log_std, generator_).action;
