@@ -131,6 +131,38 @@ TEST(HipBmdpTest, HeldOutTasksActWithTheMeanTaskParameter) {
   EXPECT_FALSE(torch::allclose(mean[0], per_task[0]));
 }
 
+// PCGrad runs through the model and decoder steps too (MTRL's pcgrad_deepmdp). With one task in
+// the batch it has nothing to project: the update equals the plain one, theta's gradient
+// gathered over the update's losses included.
+TEST(HipBmdpTest, PcGradRunsThroughTheModelLossesAndIsPlainForOneTask) {
+  HipBmdpConfig pcgrad = Tiny<HipBmdpConfig>();
+  pcgrad.pcgrad = true;
+  HipBmdpLearner with(pcgrad, 4, 2, 2, kFrames);
+  HipBmdpLearner without(Tiny<HipBmdpConfig>(), 4, 2, 2, kFrames);
+  Batch one_task = SquareBatch(16, 1, 40);  // every row task 0
+  Metrics m;
+  for (int i = 0; i < 2; ++i) {
+    m = with.Update(one_task);
+    without.Update(one_task);
+  }
+  for (const char* key : {"pcgrad_conflicts", "pcgrad_model_conflicts", "pcgrad_decoder_conflicts"}) {
+    EXPECT_TRUE(m.Contains(key)) << key;
+  }
+  auto close = [](const torch::Tensor& a, const torch::Tensor& b) {
+    return torch::allclose(a, b, /*rtol=*/1e-4, /*atol=*/1e-6);
+  };
+  EXPECT_TRUE(close(with.transition()->flat(), without.transition()->flat()));
+  EXPECT_TRUE(close(with.decoder()->flat(), without.decoder()->flat()));
+  EXPECT_TRUE(close(with.reward()->flat(), without.reward()->flat()));
+  EXPECT_TRUE(close(with.sac().pixel_encoder()->flat(), without.sac().pixel_encoder()->flat()));
+  EXPECT_TRUE(close(with.sac().task_encoder()->flat(), without.sac().task_encoder()->flat()));
+  // two tasks: per-task gradients, conflicts counted
+  const Batch two_tasks = SquareBatch(16, 2, 41);
+  m = with.Update(two_tasks);
+  EXPECT_GE(m.Get("pcgrad_model_conflicts"), 0.0);
+  EXPECT_LE(m.Get("pcgrad_model_conflicts"), 1.0);
+}
+
 TEST(HipBmdpTest, ConfigsThatCannotTrainThetaAreRefused) {
   HipBmdpConfig c = Tiny<HipBmdpConfig>();
   c.architecture = "mlp";

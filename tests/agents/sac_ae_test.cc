@@ -200,7 +200,7 @@ TEST(SacAeTest, TheAutoencoderLearnsTheFrames) {
   auto loss = [&] {
     torch::NoGradGuard no_grad;
     at::Generator g = at::detail::createCPUGenerator(7);
-    return learner.AutoencoderLoss(probe, g).item<double>();
+    return learner.AutoencoderLoss(probe, g).mean().item<double>();
   };
   const double before = loss();
   std::vector<Batch> batches;
@@ -228,6 +228,7 @@ TEST(SacAeTest, PcGradAndGradNormCombineWithIt) {
     Metrics m;
     for (int i = 0; i < 3; ++i) m = learner.Update(batch);
     EXPECT_TRUE(m.Contains(gradnorm ? "gradnorm_loss" : "pcgrad_conflicts")) << gradnorm;
+    EXPECT_EQ(m.Contains("pcgrad_ae_conflicts"), !gradnorm);
     EXPECT_TRUE(m.Contains("ae_loss"));
     EXPECT_FALSE(torch::equal(before, learner.sac().pixel_encoder()->flat()));
     if (gradnorm) {

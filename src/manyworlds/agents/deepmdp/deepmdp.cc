@@ -5,6 +5,7 @@
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 
@@ -72,6 +73,26 @@ double DeepMdpLearner::RewardError(const Batch& batch) const {
 
 void DeepMdpLearner::ZeroTaskEncoderGrad() { sac_.task_encoder()->ZeroGrad(); }
 
+double DeepMdpLearner::Backward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
+                                std::vector<nn::FlatModule*> modules, bool own_theta) {
+  if (!config_.pcgrad) {
+    per_sample.mean().backward();
+    return 0.0;
+  }
+  // PCGrad leaves its combined gradient in the modules: theta's, gathered over the update's
+  // losses, is kept aside and added back
+  torch::Tensor gathered;
+  if (own_theta) {
+    gathered = sac_.task_encoder()->flat_grad().clone();
+    modules.push_back(sac_.task_encoder().get());
+  }
+  const double conflicts =
+      nn::PcGradBackward(per_sample, task_index, sac_.num_tasks(), modules, sac_.generator())
+          .conflict_fraction();
+  if (own_theta) sac_.task_encoder()->flat_grad().add_(gathered);
+  return conflicts;
+}
+
 Metrics DeepMdpLearner::Update(const Batch& batch) {
   const int64_t update = sac_.num_updates();
   Metrics metrics = sac_.Update(batch);  // validates the batch, frames included
@@ -92,17 +113,22 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
     }
     const auto [mu, sigma] =
         transition_->Forward(torch::cat({h, batch.action}, 1), transition_->params());
+    // per row: the next latent's negative log-likelihood (up to a constant), the reward's error
     const torch::Tensor transition_loss =
-        sigma.defined() ? (0.5 * ((mu - next_h) / sigma).square() + sigma.log()).mean()
-                        : (0.5 * (mu - next_h).square()).mean();
+        (sigma.defined() ? 0.5 * ((mu - next_h) / sigma).square() + sigma.log()
+                         : 0.5 * (mu - next_h).square())
+            .mean(1);
     const torch::Tensor reward_loss =
-        torch::mse_loss(reward_->Forward(mu, reward_->params()), batch.reward);
-    (transition_loss + reward_loss).backward();
+        (reward_->Forward(mu, reward_->params()) - batch.reward).square();
+    const double conflicts = Backward(transition_loss + reward_loss, batch.task_index,
+                                      {transition_.get(), reward_.get(), encoder.get()},
+                                      own_theta);
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     reward_optimizer_.Step(reward_->flat(), reward_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
-    metrics.Set("transition_loss", transition_loss.item<double>());
-    metrics.Set("reward_loss", reward_loss.item<double>());
+    metrics.Set("transition_loss", transition_loss.mean().item<double>());
+    metrics.Set("reward_loss", reward_loss.mean().item<double>());
+    if (config_.pcgrad) metrics.Set("pcgrad_model_conflicts", conflicts);
   }
 
   // the decoder, on the next frame from the predicted next latent
@@ -116,14 +142,16 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
     const torch::Tensor reconstruction = decoder_->Forward(mu, decoder_->params());
     const torch::Tensor target = nn::PreprocessFrames(batch.next_pixels, sac_.generator())
                                      .reshape(reconstruction.sizes());
-    const torch::Tensor loss =
-        torch::mse_loss(reconstruction, target) +
-        config_.decoder_latent_lambda * (0.5 * h.square().sum(1)).mean();
-    loss.backward();
+    const torch::Tensor per_sample = (reconstruction - target).square().flatten(1).mean(1) +
+                                     config_.decoder_latent_lambda * 0.5 * h.square().sum(1);
+    const double conflicts =
+        Backward(per_sample, batch.task_index,
+                 {transition_.get(), decoder_.get(), encoder.get()}, own_theta);
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     decoder_optimizer_.Step(decoder_->flat(), decoder_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
-    metrics.Set("ae_loss", loss.item<double>());
+    metrics.Set("ae_loss", per_sample.mean().item<double>());
+    if (config_.pcgrad) metrics.Set("pcgrad_decoder_conflicts", conflicts);
   }
 
   if (own_theta) {

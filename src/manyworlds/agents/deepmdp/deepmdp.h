@@ -20,7 +20,10 @@
 // T and R use the decoder's optimiser settings (decoder_lr,
 // decoder_weight_decay) and the encoder its own (encoder_lr), as MTRL's
 // configs point them at the same optimiser files.
-// Metrics: SAC's, transition_loss, reward_loss, and on decoder steps ae_loss.
+// With config.pcgrad steps 2 and 3 too combine per-task gradients with PCGrad
+// (MTRL's pcgrad_deepmdp routes every loss through it).
+// Metrics: SAC's, transition_loss, reward_loss, and on decoder steps ae_loss;
+// with pcgrad also pcgrad_model_conflicts and pcgrad_decoder_conflicts.
 //
 // Defaults are SAC-AE's (MTRL's DeepMind Control setup, sac_ae.h) plus MTRL's
 // transition model (config/agent/components/hipbmdp_transition_model.yaml:
@@ -85,6 +88,12 @@ class DeepMdpLearner : public OffPolicyLearner {
 
  private:
   void ZeroTaskEncoderGrad();
+  // Backpropagates the per-row losses (B) into `modules` (and the task
+  // encoder this learner trains): their mean, or with config.pcgrad PCGrad's
+  // combination of the per-task gradients, theta's earlier gradient kept.
+  // Returns PCGrad's conflict fraction (0 without it).
+  double Backward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
+                  std::vector<nn::FlatModule*> modules, bool own_theta);
   // The models and optimisers beside SAC's, in Save's order (Self is const for Save).
   template <typename Archive, typename Self>
   static void TransferModels(Archive& archive, Self& self);

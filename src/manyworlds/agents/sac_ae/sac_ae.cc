@@ -6,6 +6,7 @@
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 
@@ -56,8 +57,8 @@ torch::Tensor SacAeLearner::AutoencoderLoss(const Batch& batch, at::Generator& g
   const torch::Tensor reconstruction = decoder_->Forward(h, decoder_->params());
   const torch::Tensor target =
       nn::PreprocessFrames(batch.pixels, generator).reshape(reconstruction.sizes());
-  const torch::Tensor latent = 0.5 * h.square().sum(1).mean();
-  return torch::mse_loss(reconstruction, target) + config_.decoder_latent_lambda * latent;
+  return (reconstruction - target).square().flatten(1).mean(1) +
+         config_.decoder_latent_lambda * 0.5 * h.square().sum(1);
 }
 
 Metrics SacAeLearner::Update(const Batch& batch) {
@@ -68,12 +69,18 @@ Metrics SacAeLearner::Update(const Batch& batch) {
   nn::PixelEncoder& encoder = sac_.pixel_encoder();
   encoder->ZeroGrad();
   decoder_->ZeroGrad();
-  const torch::Tensor loss = AutoencoderLoss(batch, sac_.generator());
-  loss.backward();
+  const torch::Tensor per_sample = AutoencoderLoss(batch, sac_.generator());
+  if (config_.pcgrad) {
+    metrics.Set("pcgrad_ae_conflicts",
+                nn::PcGradBackward(per_sample, batch.task_index, sac_.num_tasks(),
+                                   {encoder.get(), decoder_.get()}, sac_.generator())
+                    .conflict_fraction());
+  } else {
+    per_sample.mean().backward();
+  }
   encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
   decoder_optimizer_.Step(decoder_->flat(), decoder_->flat_grad());
-  const double total = loss.item<double>();
-  metrics.Set("ae_loss", total);
+  metrics.Set("ae_loss", per_sample.mean().item<double>());
   return metrics;
 }
 

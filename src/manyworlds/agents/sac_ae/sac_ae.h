@@ -17,8 +17,11 @@
 //     dequantisation noise, mapped to [-0.5, 0.5]; one backward into encoder
 //     and decoder, an Adam step of each (the encoder's own Adam state,
 //     encoder_lr; the decoder's with L2 weight decay decoder_weight_decay).
-// In MTRL's order: SAC's steps first, then the decoder. Metrics: SAC's, and
-// on decoder steps ae_loss (reconstruction plus latent penalty).
+// In MTRL's order: SAC's steps first, then the decoder. With config.pcgrad
+// the autoencoder step too combines per-task gradients with PCGrad (as
+// MTRL's pcgrad_sac_ae routes every loss through it). Metrics: SAC's, and on
+// decoder steps ae_loss (reconstruction plus latent penalty), with pcgrad
+// also pcgrad_ae_conflicts.
 //
 // Defaults are MTRL's for its DeepMind Control (HiP-BMDP) setup:
 // config/agent/sac_ae.yaml and config/agent/{components,optimizers}/hipbmdp_*.yaml:
@@ -78,8 +81,9 @@ class SacAeLearner : public OffPolicyLearner {
 
   SacLearner& sac() { return sac_; }
   nn::PixelDecoder& decoder() { return decoder_; }
-  // The autoencoder loss of a batch's frames (no step; dequantisation noise
-  // from `generator`). Exposed for tests.
+  // The autoencoder loss of each row of a batch, (B) (no step;
+  // dequantisation noise from `generator`); the step minimises its mean.
+  // Exposed for tests.
   torch::Tensor AutoencoderLoss(const Batch& batch, at::Generator& generator);
 
  private:
