@@ -317,85 +317,24 @@ void ReplayBuffer::Save(std::ostream& out) const {
   if (pixel_size_ > 0) SavePixels(out);
 }
 
-namespace {
-
-constexpr char kPixelMagic[8] = {'M', 'W', 'P', 'I', 'X', 'E', 'L', 'S'};
-
-}  // namespace
-
-// The pixel block: "MWPIXELS" | i64 pixel_size | per task, its stored rows of
-// pixels then of next_pixels | u64 checksum of the block's bytes before it.
 void ReplayBuffer::SavePixels(std::ostream& out) const {
-  std::vector<char> block(kPixelMagic, kPixelMagic + sizeof(kPixelMagic));
-  auto append = [&](const void* data, size_t n) {
-    const char* bytes = static_cast<const char*>(data);
-    block.insert(block.end(), bytes, bytes + n);
-  };
-  append(&pixel_size_, sizeof(pixel_size_));
+  std::vector<ReplayTaskFramesView> tasks(static_cast<size_t>(num_tasks_));
   for (int64_t t = 0; t < num_tasks_; ++t) {
-    const size_t n = static_cast<size_t>(size_[t] * pixel_size_);
     const int64_t first = Row(t, 0) * pixel_size_;
-    append(storage_.pixels.data_ptr<uint8_t>() + first, n);
-    append(storage_.next_pixels.data_ptr<uint8_t>() + first, n);
+    tasks[t] = {size_[t], storage_.pixels.data_ptr<uint8_t>() + first,
+                storage_.next_pixels.data_ptr<uint8_t>() + first};
   }
-  const uint64_t checksum = ReplaySnapshotChecksum(block);
-  out.write(block.data(), static_cast<std::streamsize>(block.size()));
-  out.write(reinterpret_cast<const char*>(&checksum), sizeof(checksum));
-  if (!out) throw Error("cannot write the replay buffer's frames");
-}
-
-std::vector<std::vector<uint8_t>> ReplayBuffer::ReadPixels(
-    std::istream& in, std::span<const int64_t> sizes) const {
-  std::vector<char> block(sizeof(kPixelMagic) + sizeof(int64_t));
-  auto read = [&](size_t offset, size_t n) {
-    if (!in.read(block.data() + offset, static_cast<std::streamsize>(n))) {
-      throw Error("replay snapshot: the frames block is truncated");
-    }
-  };
-  if (!in.read(block.data(), static_cast<std::streamsize>(block.size())) ||
-      !std::equal(kPixelMagic, kPixelMagic + sizeof(kPixelMagic), block.begin())) {
-    throw Error("replay snapshot: no frames block after the transitions (saved by a buffer "
-                "without pixels?)");
-  }
-  int64_t saved_size = 0;
-  std::memcpy(&saved_size, block.data() + sizeof(kPixelMagic), sizeof(saved_size));
-  if (saved_size != pixel_size_) {
-    throw Error("replay snapshot: frames of " + std::to_string(saved_size) +
-                " bytes, this buffer's are " + std::to_string(pixel_size_));
-  }
-  std::vector<size_t> offsets;
-  for (const int64_t size : sizes) {
-    const size_t n = static_cast<size_t>(size * pixel_size_);
-    for (int field = 0; field < 2; ++field) {
-      offsets.push_back(block.size());
-      block.resize(block.size() + n);
-      read(offsets.back(), n);
-    }
-  }
-  uint64_t checksum = 0;
-  if (!in.read(reinterpret_cast<char*>(&checksum), sizeof(checksum))) {
-    throw Error("replay snapshot: the frames block is truncated");
-  }
-  if (checksum != ReplaySnapshotChecksum(block)) {
-    throw Error("replay snapshot: the frames block is corrupt (checksum mismatch)");
-  }
-  std::vector<std::vector<uint8_t>> fields;
-  for (size_t k = 0; k < offsets.size(); ++k) {
-    const size_t n = static_cast<size_t>(sizes[k / 2] * pixel_size_);
-    fields.emplace_back(block.begin() + static_cast<std::ptrdiff_t>(offsets[k]),
-                        block.begin() + static_cast<std::ptrdiff_t>(offsets[k] + n));
-  }
-  return fields;
+  WriteReplayFrames(out, pixel_size_, tasks);
 }
 
 void ReplayBuffer::Load(std::istream& in) {
   // everything is read and checked before this buffer changes
   const std::vector<ReplayTaskRows> tasks = ReadReplaySnapshot(in, shape());
-  std::vector<std::vector<uint8_t>> frames;  // per task: pixels, next_pixels
+  std::vector<ReplayTaskFrames> frames;
   if (pixel_size_ > 0) {
     std::vector<int64_t> sizes;
     for (const ReplayTaskRows& task : tasks) sizes.push_back(task.size);
-    frames = ReadPixels(in, sizes);
+    frames = ReadReplayFrames(in, pixel_size_, sizes);
   }
   auto copy = [](const std::vector<float>& from, torch::Tensor& to, int64_t offset) {
     if (!from.empty()) {
@@ -411,11 +350,11 @@ void ReplayBuffer::Load(std::istream& in) {
     copy(task.next_obs, storage_.next_obs, first * obs_dim_);
     copy(task.done, storage_.done, first);
     if (pixel_size_ > 0) {
-      for (int field = 0; field < 2; ++field) {
-        const std::vector<uint8_t>& rows = frames[static_cast<size_t>(2 * t + field)];
-        torch::Tensor& to = field == 0 ? storage_.pixels : storage_.next_pixels;
-        if (!rows.empty()) {
-          std::memcpy(to.data_ptr<uint8_t>() + first * pixel_size_, rows.data(), rows.size());
+      const ReplayTaskFrames& task_frames = frames[static_cast<size_t>(t)];
+      for (const auto& [rows, to] : {std::pair(&task_frames.pixels, &storage_.pixels),
+                                     std::pair(&task_frames.next_pixels, &storage_.next_pixels)}) {
+        if (!rows->empty()) {
+          std::memcpy(to->data_ptr<uint8_t>() + first * pixel_size_, rows->data(), rows->size());
         }
       }
     }

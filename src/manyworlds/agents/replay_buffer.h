@@ -142,10 +142,6 @@ class ReplayBuffer {
   void AddRow(int64_t task, std::span<const float> obs, std::span<const float> action,
               float reward, std::span<const float> next_obs, bool done);
   void SavePixels(std::ostream& out) const;
-  // Reads and checks the frames block of tasks holding `sizes` rows without
-  // touching the buffer: per task its pixels, then its next_pixels.
-  std::vector<std::vector<uint8_t>> ReadPixels(std::istream& in,
-                                               std::span<const int64_t> sizes) const;
   void ResizeBatch(int64_t batch_size);
   // Copies the rows in rows_ into batch_.
   const Batch& Gather();

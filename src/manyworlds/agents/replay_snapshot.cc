@@ -12,6 +12,7 @@ namespace manyworlds::agents {
 namespace {
 
 constexpr std::array<char, 8> kMagic = {'M', 'W', 'R', 'E', 'P', 'L', 'A', 'Y'};
+constexpr std::array<char, 8> kFramesMagic = {'M', 'W', 'P', 'I', 'X', 'E', 'L', 'S'};
 constexpr uint32_t kVersion = 1;
 constexpr uint32_t kEndianMarker = 0x01020304;
 
@@ -109,11 +110,13 @@ class Writer {
 
 class Reader {
  public:
-  explicit Reader(std::istream& in) : in_(in) {}
+  // `what` names the data in errors ("the snapshot", "the frames block").
+  explicit Reader(std::istream& in, std::string what = "the snapshot")
+      : in_(in), what_(std::move(what)) {}
   void Bytes(void* data, size_t n) {
     in_.read(static_cast<char*>(data), static_cast<std::streamsize>(n));
     if (static_cast<size_t>(in_.gcount()) != n) {
-      throw Error("ReplayBuffer::Load: the snapshot is truncated");
+      throw Error("ReplayBuffer::Load: " + what_ + " is truncated");
     }
     checksum_.Update(data, n);
   }
@@ -123,6 +126,8 @@ class Reader {
     Bytes(&value, sizeof(T));
     return value;
   }
+  // Counts bytes already read (a magic checked before the checksum starts).
+  void Update(const void* data, size_t n) { checksum_.Update(data, n); }
   template <typename T>
   void Into(std::vector<T>& values, int64_t count) {
     values.resize(static_cast<size_t>(count));
@@ -133,15 +138,16 @@ class Reader {
     uint64_t stored = 0;
     in_.read(reinterpret_cast<char*>(&stored), sizeof(stored));
     if (in_.gcount() != sizeof(stored)) {
-      throw Error("ReplayBuffer::Load: the snapshot is truncated (no checksum)");
+      throw Error("ReplayBuffer::Load: " + what_ + " is truncated (no checksum)");
     }
     if (stored != expected) {
-      throw Error("ReplayBuffer::Load: checksum mismatch; the snapshot is corrupt");
+      throw Error("ReplayBuffer::Load: checksum mismatch; " + what_ + " is corrupt");
     }
   }
 
  private:
   std::istream& in_;
+  std::string what_;
   Checksum checksum_;
 };
 
@@ -230,6 +236,42 @@ std::vector<ReplayTaskRows> ReadReplaySnapshot(std::istream& in, const ReplaySha
       }
     }
   }
+  return tasks;
+}
+
+void WriteReplayFrames(std::ostream& out, int64_t pixel_size,
+                       std::span<const ReplayTaskFramesView> tasks) {
+  Writer w(out);
+  w.Bytes(kFramesMagic.data(), kFramesMagic.size());
+  w.Value(pixel_size);
+  for (const ReplayTaskFramesView& task : tasks) {
+    w.Rows(task.pixels, task.size * pixel_size);
+    w.Rows(task.next_pixels, task.size * pixel_size);
+  }
+  w.Finish();
+}
+
+std::vector<ReplayTaskFrames> ReadReplayFrames(std::istream& in, int64_t pixel_size,
+                                               std::span<const int64_t> sizes) {
+  Reader r(in, "the frames block");
+  std::array<char, 8> magic{};
+  in.read(magic.data(), static_cast<std::streamsize>(magic.size()));
+  if (in.gcount() != static_cast<std::streamsize>(magic.size()) || magic != kFramesMagic) {
+    throw Error("ReplayBuffer::Load: no frames block after the transitions (saved by a buffer "
+                "without pixels?)");
+  }
+  r.Update(magic.data(), magic.size());
+  const auto saved = r.Value<int64_t>();
+  if (saved != pixel_size) {
+    throw Error("ReplayBuffer::Load: frames of " + std::to_string(saved) +
+                " bytes, this buffer's are " + std::to_string(pixel_size));
+  }
+  std::vector<ReplayTaskFrames> tasks(sizes.size());
+  for (size_t t = 0; t < sizes.size(); ++t) {
+    r.Into(tasks[t].pixels, sizes[t] * pixel_size);
+    r.Into(tasks[t].next_pixels, sizes[t] * pixel_size);
+  }
+  r.Finish();
   return tasks;
 }
 

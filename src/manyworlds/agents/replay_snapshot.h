@@ -58,6 +58,26 @@ void WriteReplaySnapshot(std::ostream& out, const ReplayShape& shape,
 // per-task capacity. Reads nothing after the checksum.
 std::vector<ReplayTaskRows> ReadReplaySnapshot(std::istream& in, const ReplayShape& shape);
 
+// The frames of a buffer with pixel observations, a block of its own after
+// the snapshot (state-only snapshots keep their format):
+//   "MWPIXELS" | i64 pixel_size | per task: its stored rows of pixels, then of
+//   next_pixels (uint8) | u64 checksum of every byte of the block before it
+struct ReplayTaskFramesView {
+  int64_t size = 0;
+  const uint8_t* pixels = nullptr;       // size x pixel_size
+  const uint8_t* next_pixels = nullptr;  // size x pixel_size
+};
+struct ReplayTaskFrames {
+  std::vector<uint8_t> pixels, next_pixels;
+};
+// Streams the block (no copy of the frames). Throws Error if the stream fails.
+void WriteReplayFrames(std::ostream& out, int64_t pixel_size,
+                       std::span<const ReplayTaskFramesView> tasks);
+// Reads the block of tasks holding `sizes` rows. Throws Error if it is
+// missing, truncated, corrupt (checksum) or of another frame size.
+std::vector<ReplayTaskFrames> ReadReplayFrames(std::istream& in, int64_t pixel_size,
+                                               std::span<const int64_t> sizes);
+
 // The checksum a snapshot ends with, of all the bytes before it. It finds
 // damage, not forgery: tests and the fuzzer seal hand-made snapshots with it.
 uint64_t ReplaySnapshotChecksum(std::span<const char> bytes);

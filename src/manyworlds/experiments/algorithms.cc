@@ -44,13 +44,17 @@ AlgorithmInfo Row(std::string name, AlgorithmFamily family, bool discrete_action
           observations};
 }
 
-// The registered names of algorithms whose policies act on `kind` of observation.
+// Whether an algorithm acts on pixel frames (pixels) or on the state.
+bool ActsOn(const AlgorithmInfo& info, bool pixels) {
+  return info.observations == ObservationKind::kStateOrPixels ||
+         (info.observations == ObservationKind::kPixels) == pixels;
+}
+
+// The registered names of the algorithms that act on frames (pixels) or on the state.
 std::string NamesFor(bool pixels) {
   std::string names;
   for (const AlgorithmInfo& a : Algorithms()) {
-    const bool ok = a.observations == ObservationKind::kStateOrPixels ||
-                    (a.observations == ObservationKind::kPixels) == pixels;
-    if (ok) names += (names.empty() ? "" : ", ") + a.name;
+    if (ActsOn(a, pixels)) names += (names.empty() ? "" : ", ") + a.name;
   }
   return names;
 }
@@ -223,9 +227,7 @@ void CheckAlgorithmEnvs(const AgentConfig& agent, const EnvFacts& facts, const T
                       }());
   }
   const bool pixels = !facts.pixel_shape.empty();
-  const bool accepts = info.observations == ObservationKind::kStateOrPixels ||
-                       (info.observations == ObservationKind::kPixels) == pixels;
-  if (!accepts) {
+  if (!ActsOn(info, pixels)) {
     throw ConfigError(
         "agent.algo '" + info.name + "' learns from " + (pixels ? "the state" : "pixel frames") +
         ", but env '" + tasks.tasks.front().env_id + "' " +

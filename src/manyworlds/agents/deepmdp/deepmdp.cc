@@ -51,12 +51,11 @@ DeepMdpLearner::DeepMdpLearner(const DeepMdpConfig& config, int64_t obs_dim, int
 
 torch::Tensor DeepMdpLearner::Latent(const torch::Tensor& frames,
                                      const torch::Tensor& task_index) const {
-  SacLearner& sac = const_cast<SacLearner&>(sac_);
-  const nn::PixelEncoder& encoder = sac.pixel_encoder();
+  const nn::PixelEncoder& encoder = sac_.pixel_encoder();
   const torch::Tensor h = encoder->Forward(frames, encoder->params());
   if (!task_latent_) return h;
   // theta is this learner's to train unless the critic trains it
-  const nn::TaskEncoder& theta = sac.task_encoder();
+  const nn::TaskEncoder& theta = sac_.task_encoder();
   const torch::Tensor z = config_.critic_trains_task_encoder
                               ? theta->Encode(theta->detached_params())
                               : theta->Encode(theta->params());

@@ -21,8 +21,6 @@
 namespace manyworlds::agents {
 namespace {
 
-nn::AdamOptions Adam(const SacConfig& config, double lr) { return SacAdamOptions(config, lr); }
-
 int64_t ArchCode(const std::string& architecture) {
   const std::vector<std::string>& names = SacArchitectures();
   for (size_t i = 0; i < names.size(); ++i) {
@@ -144,12 +142,12 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       frame_shape_(std::move(frame_shape)),
       target_entropy_(config.target_entropy.value_or(-static_cast<double>(action_dim))),
       generator_(at::detail::createCPUGenerator(config.seed)),
-      actor_optimizer_(0, Adam(config, config.actor_lr)),
-      critic_optimizer_(0, Adam(config, config.critic_lr)),
-      alpha_optimizer_(0, Adam(config, config.alpha_lr)),
-      task_encoder_optimizer_(0, Adam(config, config.actor_lr)),
-      encoder_optimizer_(0, Adam(config, config.critic_lr)),
-      pixel_encoder_optimizer_(0, Adam(config, config.critic_lr)) {
+      actor_optimizer_(0, SacAdamOptions(config, config.actor_lr)),
+      critic_optimizer_(0, SacAdamOptions(config, config.critic_lr)),
+      alpha_optimizer_(0, SacAdamOptions(config, config.alpha_lr)),
+      task_encoder_optimizer_(0, SacAdamOptions(config, config.actor_lr)),
+      encoder_optimizer_(0, SacAdamOptions(config, config.critic_lr)),
+      pixel_encoder_optimizer_(0, SacAdamOptions(config, config.critic_lr)) {
   if (obs_dim <= 0 || action_dim <= 0 || num_tasks <= 0) {
     throw ConfigError("SacLearner: obs_dim, action_dim and num_tasks must be > 0, got " +
                       std::to_string(obs_dim) + ", " + std::to_string(action_dim) + ", " +
@@ -169,7 +167,7 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
     pixel_encoder_target_->CopyFrom(*pixel_encoder_);
     for (const torch::Tensor& p : pixel_encoder_target_->params()) p.requires_grad_(false);
     pixel_encoder_optimizer_ =
-        nn::FlatAdam(pixel_encoder_->num_params(), Adam(config, config.critic_lr));
+        nn::FlatAdam(pixel_encoder_->num_params(), SacAdamOptions(config, config.critic_lr));
     // the features are the observation from here on
     obs_dim = config.encoder_feature_dim;
     input_dim_ = obs_dim;
@@ -188,7 +186,7 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
     encoder.pretrained = task_metadata;
     task_encoder_ = nn::TaskEncoder(encoder, generator_);
     task_encoder_optimizer_ =
-        nn::FlatAdam(task_encoder_->num_params(), Adam(config, config.actor_lr));
+        nn::FlatAdam(task_encoder_->num_params(), SacAdamOptions(config, config.actor_lr));
   }
   int64_t heads = 1;
   switch (arch_) {
@@ -208,7 +206,7 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       encoder_target_ = nn::MixtureEncoder(moe, generator_);
       encoder_target_->CopyFrom(*encoder_);
       for (const torch::Tensor& p : encoder_target_->params()) p.requires_grad_(false);
-      encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), Adam(config, config.critic_lr));
+      encoder_optimizer_ = nn::FlatAdam(encoder_->num_params(), SacAdamOptions(config, config.critic_lr));
       input_dim_ = config.encoder_dim + embed;
       break;
     }
@@ -261,15 +259,15 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
 
   log_alpha_ = torch::full({config.disentangled_alpha ? num_tasks : 1},
                            std::log(config.init_temperature), torch::kFloat32);
-  actor_optimizer_ = nn::FlatAdam(actor_->trunk()->num_params(), Adam(config, config.actor_lr));
+  actor_optimizer_ = nn::FlatAdam(actor_->trunk()->num_params(), SacAdamOptions(config, config.actor_lr));
   critic_optimizer_ =
-      nn::FlatAdam(critic_->online()->num_params(), Adam(config, config.critic_lr));
-  alpha_optimizer_ = nn::FlatAdam(log_alpha_.numel(), Adam(config, config.alpha_lr));
+      nn::FlatAdam(critic_->online()->num_params(), SacAdamOptions(config, config.critic_lr));
+  alpha_optimizer_ = nn::FlatAdam(log_alpha_.numel(), SacAdamOptions(config, config.alpha_lr));
   if (config.gradnorm) {
     for (GradNormState* state : {&gradnorm_critic_, &gradnorm_actor_}) {
       state->weights = torch::ones({num_tasks}, torch::kFloat32);
       state->initial_loss = torch::full({num_tasks}, std::nan(""), torch::kFloat32);
-      state->optimizer = nn::FlatAdam(num_tasks, Adam(config, config.gradnorm_lr));
+      state->optimizer = nn::FlatAdam(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
     }
   }
 

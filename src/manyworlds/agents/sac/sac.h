@@ -187,6 +187,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // Empty holders unless frame_shape was given: the pixel encoder the critic
   // loss trains, its target copy.
   nn::PixelEncoder& pixel_encoder() { return pixel_encoder_; }
+  const nn::PixelEncoder& pixel_encoder() const { return pixel_encoder_; }
   nn::PixelEncoder& pixel_encoder_target() { return pixel_encoder_target_; }
 
   // Temperatures exp(log_alpha): (num_tasks) if disentangled, else (1).
@@ -204,6 +205,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // encoder for "task_encoder" and "moe", the mixture encoder and its target
   // copy for "moe".
   nn::TaskEncoder& task_encoder() { return task_encoder_; }
+  const nn::TaskEncoder& task_encoder() const { return task_encoder_; }
   nn::MixtureEncoder& encoder() { return encoder_; }
   nn::MixtureEncoder& encoder_target() { return encoder_target_; }
   // Drives initialisation, every sampled action and the PCGrad orders.
