@@ -163,6 +163,49 @@ TEST(HipBmdpTest, PcGradRunsThroughTheModelLossesAndIsPlainForOneTask) {
   EXPECT_LE(m.Get("pcgrad_model_conflicts"), 1.0);
 }
 
+// GradNorm runs through the model and decoder steps too (MTRL's gradnorm_deepmdp), each with
+// task weights of its own. With one task the weight stays 1 and the update is the plain one;
+// with two the weights move, stay positive and sum to 2; a checkpoint carries them.
+TEST(HipBmdpTest, GradNormBalancesTheModelLossesAndResumesExactly) {
+  HipBmdpConfig gradnorm = Tiny<HipBmdpConfig>();
+  gradnorm.gradnorm = true;
+  HipBmdpLearner with(gradnorm, 4, 2, 2, kFrames);
+  HipBmdpLearner without(Tiny<HipBmdpConfig>(), 4, 2, 2, kFrames);
+  const Batch one_task = SquareBatch(16, 1, 40);
+  Metrics m;
+  for (int i = 0; i < 2; ++i) {
+    m = with.Update(one_task);
+    without.Update(one_task);
+  }
+  for (const char* key : {"gradnorm_loss", "gradnorm_model_loss", "gradnorm_decoder_loss"}) {
+    EXPECT_TRUE(m.Contains(key)) << key;
+  }
+  auto close = [](const torch::Tensor& a, const torch::Tensor& b) {
+    return torch::allclose(a, b, /*rtol=*/1e-4, /*atol=*/1e-6);
+  };
+  EXPECT_TRUE(close(with.transition()->flat(), without.transition()->flat()));
+  EXPECT_TRUE(close(with.decoder()->flat(), without.decoder()->flat()));
+  EXPECT_TRUE(close(with.sac().task_encoder()->flat(), without.sac().task_encoder()->flat()));
+
+  gradnorm.gradnorm_lr = 1e-2;  // visible steps
+  HipBmdpLearner learner(gradnorm, 4, 2, 2, kFrames);
+  for (int i = 0; i < 12; ++i) learner.Update(SquareBatch(16, 2, 60 + i));
+  for (const nn::GradNormState* state : {&learner.gradnorm_model(), &learner.gradnorm_decoder()}) {
+    EXPECT_NEAR(state->weights.sum().item<float>(), 2.0f, 1e-4f);
+    EXPECT_GT(state->weights.min().item<float>(), 0.0f);
+    EXPECT_GT((state->weights - 1.0f).abs().max().item<float>(), 0.01f) << state->weights;
+  }
+  gradnorm.seed = 8;
+  HipBmdpLearner copy(gradnorm, 4, 2, 2, kFrames);
+  EXPECT_FALSE(torch::equal(copy.gradnorm_model().weights, learner.gradnorm_model().weights));
+  Restore(copy, Archive(learner));
+  EXPECT_TRUE(torch::equal(copy.gradnorm_model().weights, learner.gradnorm_model().weights));
+  const Batch next = SquareBatch(16, 2, 99);
+  const Metrics ma = learner.Update(next), mb = copy.Update(next);
+  for (const auto& [name, value] : ma.items()) EXPECT_EQ(value, mb.Get(name)) << name;
+  EXPECT_EQ(Archive(learner), Archive(copy));
+}
+
 TEST(HipBmdpTest, ConfigsThatCannotTrainThetaAreRefused) {
   HipBmdpConfig c = Tiny<HipBmdpConfig>();
   c.architecture = "mlp";

@@ -229,10 +229,15 @@ TEST(SacAeTest, PcGradAndGradNormCombineWithIt) {
     for (int i = 0; i < 3; ++i) m = learner.Update(batch);
     EXPECT_TRUE(m.Contains(gradnorm ? "gradnorm_loss" : "pcgrad_conflicts")) << gradnorm;
     EXPECT_EQ(m.Contains("pcgrad_ae_conflicts"), !gradnorm);
+    EXPECT_EQ(m.Contains("gradnorm_ae_loss"), gradnorm);
     EXPECT_TRUE(m.Contains("ae_loss"));
     EXPECT_FALSE(torch::equal(before, learner.sac().pixel_encoder()->flat()));
     if (gradnorm) {
       EXPECT_FALSE(torch::equal(learner.sac().gradnorm_weights(true), torch::ones({2})));
+      // the autoencoder loss has task weights of its own, balanced too
+      const torch::Tensor w = learner.gradnorm().weights;
+      EXPECT_FALSE(torch::equal(w, torch::ones({2})));
+      EXPECT_NEAR(w.sum().item<float>(), 2.0f, 1e-4f);
     }
   }
 }

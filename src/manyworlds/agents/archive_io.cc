@@ -1,5 +1,8 @@
 #include "manyworlds/agents/archive_io.h"
 
+#include <utility>
+
+#include "manyworlds/core/error.h"
 #include "manyworlds/rl/generator.h"
 
 namespace manyworlds::agents {
@@ -42,6 +45,30 @@ void Transfer(torch::serialize::InputArchive& archive, const char* key,
   torch::Tensor coefficients;
   archive.read(key, coefficients);
   baseline.set_coefficients(coefficients);
+}
+
+void Transfer(torch::serialize::OutputArchive& archive, const std::string& key,
+              const nn::GradNormState& state) {
+  archive.write(key + "_weights", state.weights);
+  archive.write(key + "_initial", state.initial_loss);
+  WriteOptimizer(archive, (key + "_optimizer").c_str(), state.optimizer);
+}
+
+void Transfer(torch::serialize::InputArchive& archive, const std::string& key,
+              nn::GradNormState& state) {
+  for (const auto& [suffix, tensor] :
+       {std::pair<const char*, torch::Tensor*>{"_weights", &state.weights},
+        {"_initial", &state.initial_loss}}) {
+    torch::Tensor saved;
+    archive.read(key + suffix, saved);
+    if (saved.numel() != tensor->numel()) {
+      throw Error("checkpoint has GradNorm state '" + key + "' for " +
+                  std::to_string(saved.numel()) + " tasks, this learner " +
+                  std::to_string(tensor->numel()));
+    }
+    tensor->copy_(saved.reshape(tensor->sizes()));
+  }
+  ReadOptimizer(archive, (key + "_optimizer").c_str(), state.optimizer);
 }
 
 void WriteProgress(torch::serialize::OutputArchive& archive, int64_t num_updates,

@@ -6,10 +6,12 @@
 
 #include <cstdint>
 #include <memory>
+#include <string>
 
 #include <torch/torch.h>
 
 #include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/rl/linear_baseline.h"
 
 namespace manyworlds::agents {
@@ -43,6 +45,12 @@ inline void Transfer(torch::serialize::InputArchive& archive, const char* key,
                      nn::FlatAdam& optimizer) {
   ReadOptimizer(archive, key, optimizer);
 }
+// GradNorm's state (nn/gradnorm.h) as three entries: KEY_weights,
+// KEY_initial and KEY_optimizer. Reading checks the number of tasks.
+void Transfer(torch::serialize::OutputArchive& archive, const std::string& key,
+              const nn::GradNormState& state);
+void Transfer(torch::serialize::InputArchive& archive, const std::string& key,
+              nn::GradNormState& state);
 // A linear baseline is stored as its coefficients tensor.
 void Transfer(torch::serialize::OutputArchive& archive, const char* key,
               const rl::LinearFeatureBaseline& baseline);

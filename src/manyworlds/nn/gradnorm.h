@@ -9,7 +9,13 @@
 #ifndef MANYWORLDS_NN_GRADNORM_H_
 #define MANYWORLDS_NN_GRADNORM_H_
 
+#include <cstdint>
+#include <utility>
+#include <vector>
+
 #include <torch/torch.h>
+
+#include "manyworlds/nn/flat_optim.h"
 
 namespace manyworlds::nn {
 
@@ -27,6 +33,31 @@ GradNormTerms GradNormGradient(const torch::Tensor& weights, const torch::Tensor
 
 // In place: at least 1e-4 each, then scaled to sum to their number.
 void RenormaliseTaskWeights(torch::Tensor& weights);
+
+// Per-task mean losses (T) of per_sample (B) over the rows of each task in
+// task_index (B), and the norms (T) of their gradients in `layers` (taken
+// together, as one vector), unweighted; 0 for tasks absent from the batch.
+// Keeps the graph for the loss's own backward.
+std::pair<torch::Tensor, torch::Tensor> TaskLossesAndGradNorms(
+    const torch::Tensor& per_sample, const torch::Tensor& task_index, int64_t num_tasks,
+    const std::vector<torch::Tensor>& layers);
+
+// GradNorm's state for one loss: the task weights, each task's first loss,
+// the weights' Adam. Default-constructed: off (weights() undefined).
+struct GradNormState {
+  GradNormState() = default;
+  GradNormState(int64_t num_tasks, const AdamOptions& adam);
+
+  // One GradNorm step from a batch's per-task losses and gradient norms (T)
+  // and the tasks present in it (T, bool): the weights' Adam step, then
+  // their renormalisation. Returns the L1 GradNorm loss.
+  double Step(const torch::Tensor& losses, const torch::Tensor& norms,
+              const torch::Tensor& present, double alpha);
+
+  torch::Tensor weights;       // (T), sum T
+  torch::Tensor initial_loss;  // (T), NaN until the task was first seen
+  FlatAdam optimizer{0, AdamOptions{}};
+};
 
 }  // namespace manyworlds::nn
 

@@ -5,7 +5,6 @@
 #include "manyworlds/agents/archive_io.h"
 #include "manyworlds/agents/config_check.h"
 #include "manyworlds/core/error.h"
-#include "manyworlds/nn/pcgrad.h"
 
 namespace manyworlds::agents {
 
@@ -47,6 +46,10 @@ DeepMdpLearner::DeepMdpLearner(const DeepMdpConfig& config, int64_t obs_dim, int
     task_encoder_optimizer_ =
         nn::FlatAdam(sac_.task_encoder()->num_params(), SacAdamOptions(config, config.encoder_lr));
   }
+  if (config.gradnorm) {
+    gradnorm_model_ = nn::GradNormState(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
+    gradnorm_decoder_ = nn::GradNormState(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
+  }
 }
 
 torch::Tensor DeepMdpLearner::Latent(const torch::Tensor& frames,
@@ -73,23 +76,21 @@ double DeepMdpLearner::RewardError(const Batch& batch) const {
 void DeepMdpLearner::ZeroTaskEncoderGrad() { sac_.task_encoder()->ZeroGrad(); }
 
 double DeepMdpLearner::Backward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
-                                std::vector<nn::FlatModule*> modules, bool own_theta) {
-  if (!config_.pcgrad) {
-    per_sample.mean().backward();
-    return 0.0;
-  }
+                                std::vector<nn::FlatModule*> modules, bool own_theta,
+                                nn::GradNormState& gradnorm,
+                                const std::vector<torch::Tensor>& last_layers) {
   // PCGrad leaves its combined gradient in the modules: theta's, gathered over the update's
   // losses, is kept aside and added back
+  const bool theta_aside = own_theta && config_.pcgrad;
   torch::Tensor gathered;
-  if (own_theta) {
+  if (theta_aside) {
     gathered = sac_.task_encoder()->flat_grad().clone();
     modules.push_back(sac_.task_encoder().get());
   }
-  const double conflicts =
-      nn::PcGradBackward(per_sample, task_index, sac_.num_tasks(), modules, sac_.generator())
-          .conflict_fraction();
-  if (own_theta) sac_.task_encoder()->flat_grad().add_(gathered);
-  return conflicts;
+  const double combined =
+      AuxiliaryBackward(sac_, per_sample, task_index, modules, gradnorm, last_layers);
+  if (theta_aside) sac_.task_encoder()->flat_grad().add_(gathered);
+  return combined;
 }
 
 Metrics DeepMdpLearner::Update(const Batch& batch) {
@@ -119,15 +120,17 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
             .mean(1);
     const torch::Tensor reward_loss =
         (reward_->Forward(mu, reward_->params()) - batch.reward).square();
-    const double conflicts = Backward(transition_loss + reward_loss, batch.task_index,
-                                      {transition_.get(), reward_.get(), encoder.get()},
-                                      own_theta);
+    const double combined =
+        Backward(transition_loss + reward_loss, batch.task_index,
+                 {transition_.get(), reward_.get(), encoder.get()}, own_theta, gradnorm_model_,
+                 {transition_->params()[4], reward_->params()[4]});
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     reward_optimizer_.Step(reward_->flat(), reward_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
     metrics.Set("transition_loss", transition_loss.mean().item<double>());
     metrics.Set("reward_loss", reward_loss.mean().item<double>());
-    if (config_.pcgrad) metrics.Set("pcgrad_model_conflicts", conflicts);
+    if (config_.pcgrad) metrics.Set("pcgrad_model_conflicts", combined);
+    if (config_.gradnorm) metrics.Set("gradnorm_model_loss", combined);
   }
 
   // the decoder, on the next frame from the predicted next latent
@@ -143,14 +146,17 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
                                      .reshape(reconstruction.sizes());
     const torch::Tensor per_sample = (reconstruction - target).square().flatten(1).mean(1) +
                                      config_.decoder_latent_lambda * 0.5 * h.square().sum(1);
-    const double conflicts =
-        Backward(per_sample, batch.task_index,
-                 {transition_.get(), decoder_.get(), encoder.get()}, own_theta);
+    const auto& decoder_params = decoder_->params();
+    const double combined =
+        Backward(per_sample, batch.task_index, {transition_.get(), decoder_.get(), encoder.get()},
+                 own_theta, gradnorm_decoder_,
+                 {transition_->params()[4], decoder_params[decoder_params.size() - 2]});
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     decoder_optimizer_.Step(decoder_->flat(), decoder_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
     metrics.Set("ae_loss", per_sample.mean().item<double>());
-    if (config_.pcgrad) metrics.Set("pcgrad_decoder_conflicts", conflicts);
+    if (config_.pcgrad) metrics.Set("pcgrad_decoder_conflicts", combined);
+    if (config_.gradnorm) metrics.Set("gradnorm_decoder_loss", combined);
   }
 
   if (own_theta) {
@@ -193,6 +199,10 @@ void DeepMdpLearner::TransferModels(Archive& archive, Self& self) {
   Transfer(archive, "reward_optimizer", self.reward_optimizer_);
   Transfer(archive, "decoder_optimizer", self.decoder_optimizer_);
   if (self.task_latent_) Transfer(archive, "theta_optimizer", self.task_encoder_optimizer_);
+  if (self.config_.gradnorm) {
+    Transfer(archive, "gradnorm_model", self.gradnorm_model_);
+    Transfer(archive, "gradnorm_decoder", self.gradnorm_decoder_);
+  }
 }
 
 void DeepMdpLearner::Save(torch::serialize::OutputArchive& archive) const {

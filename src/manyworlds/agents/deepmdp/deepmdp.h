@@ -20,10 +20,13 @@
 // T and R use the decoder's optimiser settings (decoder_lr,
 // decoder_weight_decay) and the encoder its own (encoder_lr), as MTRL's
 // configs point them at the same optimiser files.
-// With config.pcgrad steps 2 and 3 too combine per-task gradients with PCGrad
-// (MTRL's pcgrad_deepmdp routes every loss through it).
+// With config.pcgrad or config.gradnorm steps 2 and 3 too go through them
+// (MTRL's pcgrad_deepmdp and gradnorm_deepmdp route every loss through their
+// _compute_gradient; GradNorm keeps one set of task weights per step, as
+// MTRL keeps one per component list).
 // Metrics: SAC's, transition_loss, reward_loss, and on decoder steps ae_loss;
-// with pcgrad also pcgrad_model_conflicts and pcgrad_decoder_conflicts.
+// with pcgrad also pcgrad_model_conflicts and pcgrad_decoder_conflicts,
+// with gradnorm gradnorm_model_loss and gradnorm_decoder_loss.
 //
 // Defaults are SAC-AE's (MTRL's DeepMind Control setup, sac_ae.h) plus MTRL's
 // transition model (config/agent/components/hipbmdp_transition_model.yaml:
@@ -43,6 +46,7 @@
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac_ae/sac_ae.h"
 #include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/nn/pixel_encoder.h"
 
 namespace manyworlds::agents {
@@ -79,6 +83,10 @@ class DeepMdpLearner : public OffPolicyLearner {
   TransitionModel& transition() { return transition_; }
   RewardDecoder& reward() { return reward_; }
   nn::PixelDecoder& decoder() { return decoder_; }
+  // GradNorm's state of the model and decoder steps (weights undefined
+  // without config.gradnorm).
+  const nn::GradNormState& gradnorm_model() const { return gradnorm_model_; }
+  const nn::GradNormState& gradnorm_decoder() const { return gradnorm_decoder_; }
   // The latent of frames (B, ...) of tasks (B), differentiable in the
   // encoder (and the task encoder) unless detached. Exposed for tests.
   torch::Tensor Latent(const torch::Tensor& frames, const torch::Tensor& task_index) const;
@@ -89,11 +97,12 @@ class DeepMdpLearner : public OffPolicyLearner {
  private:
   void ZeroTaskEncoderGrad();
   // Backpropagates the per-row losses (B) into `modules` (and the task
-  // encoder this learner trains): their mean, or with config.pcgrad PCGrad's
-  // combination of the per-task gradients, theta's earlier gradient kept.
-  // Returns PCGrad's conflict fraction (0 without it).
+  // encoder this learner trains) by AuxiliaryBackward (sac_ae.h), with
+  // `gradnorm` and its `last_layers` under config.gradnorm; under PCGrad
+  // theta's earlier gradient is kept. Returns what AuxiliaryBackward does.
   double Backward(const torch::Tensor& per_sample, const torch::Tensor& task_index,
-                  std::vector<nn::FlatModule*> modules, bool own_theta);
+                  std::vector<nn::FlatModule*> modules, bool own_theta,
+                  nn::GradNormState& gradnorm, const std::vector<torch::Tensor>& last_layers);
   // The models and optimisers beside SAC's, in Save's order (Self is const for Save).
   template <typename Archive, typename Self>
   static void TransferModels(Archive& archive, Self& self);
@@ -110,6 +119,8 @@ class DeepMdpLearner : public OffPolicyLearner {
   nn::FlatAdam reward_optimizer_;
   nn::FlatAdam decoder_optimizer_;
   nn::FlatAdam task_encoder_optimizer_;  // HiP-BMDP: the task encoder's own
+  // GradNorm of the model and decoder losses; off unless config.gradnorm
+  nn::GradNormState gradnorm_model_, gradnorm_decoder_;
 };
 
 }  // namespace manyworlds::agents

@@ -73,7 +73,7 @@ int PoolThreads(const SacConfig& config, int64_t shards) {
   return static_cast<int>(std::min(threads, shards));
 }
 
-// A fixed-size tensor of a checkpoint (the temperatures, GradNorm's state):
+// A fixed-size tensor of a checkpoint (the temperatures):
 // written as it is; read into place, Error on another number of `what`.
 void TransferTensor(torch::serialize::OutputArchive& archive, const char* key,
                     const torch::Tensor& t, const char* /*what*/ = "values") {
@@ -264,11 +264,8 @@ SacLearner::SacLearner(const SacConfig& config, int64_t obs_dim, int64_t action_
       nn::FlatAdam(critic_->online()->num_params(), SacAdamOptions(config, config.critic_lr));
   alpha_optimizer_ = nn::FlatAdam(log_alpha_.numel(), SacAdamOptions(config, config.alpha_lr));
   if (config.gradnorm) {
-    for (GradNormState* state : {&gradnorm_critic_, &gradnorm_actor_}) {
-      state->weights = torch::ones({num_tasks}, torch::kFloat32);
-      state->initial_loss = torch::full({num_tasks}, std::nan(""), torch::kFloat32);
-      state->optimizer = nn::FlatAdam(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
-    }
+    gradnorm_critic_ = nn::GradNormState(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
+    gradnorm_actor_ = nn::GradNormState(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
   }
 
   for (int64_t s = 1; s < shards; ++s) {
@@ -425,33 +422,6 @@ torch::Tensor SacLearner::SampleWeights(const torch::Tensor& task_index,
   return per_task.index_select(0, task_index);
 }
 
-std::pair<torch::Tensor, torch::Tensor> SacLearner::TaskLossNorms(
-    const torch::Tensor& per_sample, const torch::Tensor& task_index,
-    const torch::Tensor& last_layer) const {
-  torch::Tensor losses = torch::zeros({num_tasks_}, torch::kFloat32);
-  torch::Tensor norms = torch::zeros({num_tasks_}, torch::kFloat32);
-  for (int64_t t = 0; t < num_tasks_; ++t) {
-    const torch::Tensor rows = torch::nonzero(task_index == t).reshape({-1});
-    if (rows.numel() == 0) continue;
-    const torch::Tensor loss = per_sample.index_select(0, rows).mean();
-    // Only the last layer's gradient: the backward stops there.
-    const torch::Tensor grad =
-        torch::autograd::grad({loss}, {last_layer}, {}, /*retain_graph=*/true)[0];
-    losses[t] = loss.detach();
-    norms[t] = grad.norm();
-  }
-  return {losses, norms};
-}
-
-double SacLearner::GradNormStep(GradNormState& state, const torch::Tensor& losses,
-                                const torch::Tensor& norms, const torch::Tensor& present) {
-  const nn::GradNormTerms terms = nn::GradNormGradient(
-      state.weights, losses, norms, present, state.initial_loss, config_.gradnorm_alpha);
-  state.optimizer.Step(state.weights, terms.grad);
-  nn::RenormaliseTaskWeights(state.weights);
-  return terms.loss;
-}
-
 torch::Tensor SacLearner::ExtremeTasks(const torch::Tensor& per_sample_loss,
                                        const torch::Tensor& task_index) const {
   torch::NoGradGuard no_grad;
@@ -562,8 +532,8 @@ Metrics SacLearner::Update(const Batch& batch) {
       if (config_.pcgrad || weights.defined() || paco_resets) per_sample = squared.sum(0);
       if (paco_resets) sample_loss_part[s] = per_sample.detach();
       if (config_.gradnorm) {  // one shard: rows are the batch
-        std::tie(task_losses, task_norms) = TaskLossNorms(
-            per_sample, part.task_index, params.critic[params.critic.size() - 2]);
+        std::tie(task_losses, task_norms) = nn::TaskLossesAndGradNorms(
+            per_sample, part.task_index, num_tasks_, {params.critic[params.critic.size() - 2]});
       }
       if (weights.defined()) per_sample = per_sample * weights.narrow(0, lo, n);
       const torch::Tensor loss =
@@ -616,7 +586,8 @@ Metrics SacLearner::Update(const Batch& batch) {
   torch::Tensor present;  // GradNorm: (T) bool, the tasks in this batch
   if (config_.gradnorm) {
     present = torch::bincount(batch.task_index, {}, num_tasks_) > 0;
-    metrics.Set("gradnorm_loss", GradNormStep(gradnorm_critic_, task_losses, task_norms, present));
+    metrics.Set("gradnorm_loss", gradnorm_critic_.Step(task_losses, task_norms, present,
+                                                       config_.gradnorm_alpha));
     metrics.Set("gradnorm_weight_min", gradnorm_critic_.weights.min().item<double>());
     metrics.Set("gradnorm_weight_max", gradnorm_critic_.weights.max().item<double>());
   }
@@ -652,8 +623,8 @@ Metrics SacLearner::Update(const Batch& batch) {
         per_sample = per_sample + prior_.weight * (pi.log_prob - prior_.log_prob(obs, pi.pre_tanh));
       }
       if (config_.gradnorm) {
-        std::tie(actor_task_losses, actor_task_norms) =
-            TaskLossNorms(per_sample, task, params.actor[params.actor.size() - 2]);
+        std::tie(actor_task_losses, actor_task_norms) = nn::TaskLossesAndGradNorms(
+            per_sample, task, num_tasks_, {params.actor[params.actor.size() - 2]});
       }
       if (actor_weights.defined()) per_sample = per_sample * actor_weights.narrow(0, lo, n);
       const torch::Tensor loss = per_sample.sum() / static_cast<double>(b);
@@ -676,7 +647,8 @@ Metrics SacLearner::Update(const Batch& batch) {
     actor_optimizer_.Step(trunk.flat(), trunk.flat_grad());
     if (config_.gradnorm) {
       metrics.Set("gradnorm_actor_loss",
-                  GradNormStep(gradnorm_actor_, actor_task_losses, actor_task_norms, present));
+                  gradnorm_actor_.Step(actor_task_losses, actor_task_norms, present,
+                                       config_.gradnorm_alpha));
     }
     double actor_loss_value = 0.0;
     for (double part : actor_loss_part) actor_loss_value += part;
@@ -779,12 +751,8 @@ void SacLearner::TransferNetworks(Archive& archive, Self& self) {
     Transfer(archive, "pixel_encoder_optimizer", self.pixel_encoder_optimizer_);
   }
   if (self.config_.gradnorm) {
-    TransferTensor(archive, "gradnorm_critic_weights", self.gradnorm_critic_.weights);
-    TransferTensor(archive, "gradnorm_critic_initial", self.gradnorm_critic_.initial_loss);
-    Transfer(archive, "gradnorm_critic_optimizer", self.gradnorm_critic_.optimizer);
-    TransferTensor(archive, "gradnorm_actor_weights", self.gradnorm_actor_.weights);
-    TransferTensor(archive, "gradnorm_actor_initial", self.gradnorm_actor_.initial_loss);
-    Transfer(archive, "gradnorm_actor_optimizer", self.gradnorm_actor_.optimizer);
+    Transfer(archive, "gradnorm_critic", self.gradnorm_critic_);
+    Transfer(archive, "gradnorm_actor", self.gradnorm_actor_);
   }
 }
 

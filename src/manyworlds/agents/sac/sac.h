@@ -81,6 +81,7 @@
 #include "manyworlds/agents/metrics.h"
 #include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/nn/gaussian_policy.h"
 #include "manyworlds/nn/pixel_encoder.h"
 #include "manyworlds/nn/task_encoder.h"
@@ -259,20 +260,6 @@ class SacLearner : public OffPolicyLearner, public Actor {
   // every weight is 1.
   torch::Tensor SampleWeights(const torch::Tensor& task_index, const torch::Tensor& masked,
                               const torch::Tensor& task_weights = {}) const;
-  // GradNorm's state for one loss (critic or actor).
-  struct GradNormState {
-    torch::Tensor weights;       // (T), sum T
-    torch::Tensor initial_loss;  // (T), NaN until the task was first seen
-    nn::FlatAdam optimizer{0, nn::AdamOptions{}};
-  };
-  // Per-task mean losses (T) of per_sample (B) and the norms (T) of their
-  // gradients in `last_layer`, unweighted; 0 for absent tasks. Keeps the graph.
-  std::pair<torch::Tensor, torch::Tensor> TaskLossNorms(const torch::Tensor& per_sample,
-                                                        const torch::Tensor& task_index,
-                                                        const torch::Tensor& last_layer) const;
-  // One GradNorm step of `state` from those; returns the L1 GradNorm loss.
-  double GradNormStep(GradNormState& state, const torch::Tensor& losses,
-                      const torch::Tensor& norms, const torch::Tensor& present);
   // PaCo: tasks (int64) whose mean critic loss over their samples exceeds
   // the threshold, from per-sample losses (B).
   torch::Tensor ExtremeTasks(const torch::Tensor& per_sample_loss,
@@ -318,7 +305,7 @@ class SacLearner : public OffPolicyLearner, public Actor {
   nn::FlatAdam pixel_encoder_optimizer_;
   int64_t num_updates_ = 0;
   PolicyPrior prior_;
-  GradNormState gradnorm_critic_, gradnorm_actor_;
+  nn::GradNormState gradnorm_critic_, gradnorm_actor_;  // GradNorm: off unless config.gradnorm
   std::vector<ShardReplicas> replicas_;  // one per shard after the first
   std::unique_ptr<nn::WorkerPool> pool_;
 };

@@ -37,6 +37,27 @@ void SacAeConfig::Validate() const {
                "in [1, 1000000]", decoder_update_freq);
 }
 
+double AuxiliaryBackward(SacLearner& sac, const torch::Tensor& per_sample,
+                         const torch::Tensor& task_index,
+                         const std::vector<nn::FlatModule*>& modules,
+                         nn::GradNormState& gradnorm,
+                         const std::vector<torch::Tensor>& last_layers) {
+  const SacConfig& config = sac.config();
+  if (config.pcgrad) {
+    return nn::PcGradBackward(per_sample, task_index, sac.num_tasks(), modules, sac.generator())
+        .conflict_fraction();
+  }
+  if (!config.gradnorm) {
+    per_sample.mean().backward();
+    return 0.0;
+  }
+  const auto [losses, norms] =
+      nn::TaskLossesAndGradNorms(per_sample, task_index, sac.num_tasks(), last_layers);
+  (per_sample * gradnorm.weights.index_select(0, task_index)).mean().backward();
+  const torch::Tensor present = torch::bincount(task_index, {}, sac.num_tasks()) > 0;
+  return gradnorm.Step(losses, norms, present, config.gradnorm_alpha);
+}
+
 SacAeLearner::SacAeLearner(const SacAeConfig& config, int64_t obs_dim, int64_t action_dim,
                            int64_t num_tasks, const std::vector<int64_t>& frame_shape)
     : config_(Validated(config)),
@@ -49,6 +70,9 @@ SacAeLearner::SacAeLearner(const SacAeConfig& config, int64_t obs_dim, int64_t a
   decoder_optimizer_ =
       nn::FlatAdam(decoder_->num_params(),
                    SacAdamOptions(config, config.decoder_lr, config.decoder_weight_decay));
+  if (config.gradnorm) {
+    gradnorm_ = nn::GradNormState(num_tasks, SacAdamOptions(config, config.gradnorm_lr));
+  }
 }
 
 torch::Tensor SacAeLearner::AutoencoderLoss(const Batch& batch, at::Generator& generator) {
@@ -70,14 +94,12 @@ Metrics SacAeLearner::Update(const Batch& batch) {
   encoder->ZeroGrad();
   decoder_->ZeroGrad();
   const torch::Tensor per_sample = AutoencoderLoss(batch, sac_.generator());
-  if (config_.pcgrad) {
-    metrics.Set("pcgrad_ae_conflicts",
-                nn::PcGradBackward(per_sample, batch.task_index, sac_.num_tasks(),
-                                   {encoder.get(), decoder_.get()}, sac_.generator())
-                    .conflict_fraction());
-  } else {
-    per_sample.mean().backward();
-  }
+  const auto& decoder_params = decoder_->params();
+  const double combined =
+      AuxiliaryBackward(sac_, per_sample, batch.task_index, {encoder.get(), decoder_.get()},
+                        gradnorm_, {decoder_params[decoder_params.size() - 2]});
+  if (config_.pcgrad) metrics.Set("pcgrad_ae_conflicts", combined);
+  if (config_.gradnorm) metrics.Set("gradnorm_ae_loss", combined);
   encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
   decoder_optimizer_.Step(decoder_->flat(), decoder_->flat_grad());
   metrics.Set("ae_loss", per_sample.mean().item<double>());
@@ -89,6 +111,7 @@ void SacAeLearner::Save(torch::serialize::OutputArchive& archive) const {
   Transfer(archive, "decoder", *decoder_);
   Transfer(archive, "ae_encoder_optimizer", encoder_optimizer_);
   Transfer(archive, "decoder_optimizer", decoder_optimizer_);
+  if (config_.gradnorm) Transfer(archive, "gradnorm_ae", gradnorm_);
 }
 
 void SacAeLearner::Load(torch::serialize::InputArchive& archive) {
@@ -96,6 +119,7 @@ void SacAeLearner::Load(torch::serialize::InputArchive& archive) {
   Transfer(archive, "decoder", *decoder_);
   Transfer(archive, "ae_encoder_optimizer", encoder_optimizer_);
   Transfer(archive, "decoder_optimizer", decoder_optimizer_);
+  if (config_.gradnorm) Transfer(archive, "gradnorm_ae", gradnorm_);
 }
 
 }  // namespace manyworlds::agents

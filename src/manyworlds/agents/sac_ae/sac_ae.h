@@ -18,10 +18,11 @@
 //     and decoder, an Adam step of each (the encoder's own Adam state,
 //     encoder_lr; the decoder's with L2 weight decay decoder_weight_decay).
 // In MTRL's order: SAC's steps first, then the decoder. With config.pcgrad
-// the autoencoder step too combines per-task gradients with PCGrad (as
-// MTRL's pcgrad_sac_ae routes every loss through it). Metrics: SAC's, and on
+// or config.gradnorm the autoencoder step too goes through them
+// (AuxiliaryBackward below; MTRL's pcgrad_sac_ae and gradnorm agents route
+// every loss through their _compute_gradient). Metrics: SAC's, and on
 // decoder steps ae_loss (reconstruction plus latent penalty), with pcgrad
-// also pcgrad_ae_conflicts.
+// also pcgrad_ae_conflicts, with gradnorm gradnorm_ae_loss.
 //
 // Defaults are MTRL's for its DeepMind Control (HiP-BMDP) setup:
 // config/agent/sac_ae.yaml and config/agent/{components,optimizers}/hipbmdp_*.yaml:
@@ -45,6 +46,7 @@
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac/sac_config.h"
 #include "manyworlds/nn/flat_optim.h"
+#include "manyworlds/nn/gradnorm.h"
 #include "manyworlds/nn/pixel_encoder.h"
 
 namespace manyworlds::agents {
@@ -67,6 +69,20 @@ struct SacAeConfig : SacConfig {
   void Validate() const;
 };
 
+// How a pixel learner's own per-row loss (B) of tasks task_index (B) reaches
+// `modules` (their gradients are zeroed by the caller): its mean; with
+// pcgrad PCGrad's combination of the per-task gradients; with gradnorm the
+// mean weighted per row by `gradnorm`'s task weights, which then take a
+// GradNorm step with the norms of the per-task gradients in `last_layers`
+// (MTRL's get_last_shared_layers: the decoder's last deconvolution, the
+// transition model's mean layer, the reward model's output layer; the
+// weights only, as SAC's GradNorm). Returns PCGrad's conflict fraction,
+// GradNorm's loss, or 0.
+double AuxiliaryBackward(SacLearner& sac, const torch::Tensor& per_sample,
+                         const torch::Tensor& task_index,
+                         const std::vector<nn::FlatModule*>& modules,
+                         nn::GradNormState& gradnorm, const std::vector<torch::Tensor>& last_layers);
+
 class SacAeLearner : public OffPolicyLearner {
  public:
   // frame_shape: (C, H, W) of the frames (required). Throws ConfigError on a
@@ -81,6 +97,9 @@ class SacAeLearner : public OffPolicyLearner {
 
   SacLearner& sac() { return sac_; }
   nn::PixelDecoder& decoder() { return decoder_; }
+  // GradNorm's state of the autoencoder step (weights undefined without
+  // config.gradnorm).
+  const nn::GradNormState& gradnorm() const { return gradnorm_; }
   // The autoencoder loss of each row of a batch, (B) (no step;
   // dequantisation noise from `generator`); the step minimises its mean.
   // Exposed for tests.
@@ -92,6 +111,7 @@ class SacAeLearner : public OffPolicyLearner {
   nn::PixelDecoder decoder_{nullptr};
   nn::FlatAdam encoder_optimizer_;
   nn::FlatAdam decoder_optimizer_;
+  nn::GradNormState gradnorm_;  // the autoencoder loss's; off unless config.gradnorm
 };
 
 }  // namespace manyworlds::agents
