@@ -45,6 +45,8 @@ stage_done() {
 }
 stage_done "setup and C++ build"
 cpp_status=0
+# the failed-test lists named at the end are this run's
+rm -f "$build_dir/Testing/Temporary/LastTestsFailed.log" build-asan/Testing/Temporary/LastTestsFailed.log
 # CheckEnvPassesOnEveryRegisteredEnv (every env through the env checker, ~70 s) runs in the
 # sanitizer build below, where it checks more; it is not run twice
 ctest --test-dir "$build_dir" --output-on-failure -j2 \
@@ -65,6 +67,14 @@ stage_done "sanitizer build and tests"
 echo "test.sh: wall time per stage"
 printf '  %s\n' "${stage_times[@]}"
 printf '  %-34s %5d s\n' "total" "$SECONDS"
+# CI shows the end of the log: name the failed tests here, not only thousands of lines above
+for dir in "$build_dir" build-asan; do
+  failed_list=$dir/Testing/Temporary/LastTestsFailed.log
+  if [ -s "$failed_list" ]; then
+    echo "test.sh: failed in $dir (ctest -R NAME --output-on-failure reruns one):"
+    sed 's/^/  /' "$failed_list"
+  fi
+done
 if [ "$cpp_status" -ne 0 ] || [ "$py_status" -ne 0 ] || [ "$fuzz_status" -ne 0 ] ||
    [ "$sanitize_status" -ne 0 ]; then
   echo "test.sh: C++ tests exit code $cpp_status, Python tests exit code $py_status," \
