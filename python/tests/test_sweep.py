@@ -107,6 +107,20 @@ def test_a_sweep_file_expands_to_one_run_per_group_grid_point_and_seed(tmp_path)
                       steps_per_task=9).runs[0].overrides == {"experiment.steps_per_task": 9}
 
 
+def test_runs_are_submitted_seed_major_so_an_early_stop_leaves_every_method_its_first_seeds(
+        tmp_path):
+    config = write(tmp_path / "tiny.yaml", TINY_CONFIG)
+    sweep = spec.parse({"seeds": [3, 1, 2], "groups": [{"config": str(config), "name": "a"},
+                                                       {"config": str(config), "name": "b"}]})
+    assert [r.id for r in sweep.runs][:2] == ["a/seed_3", "a/seed_1"]  # the file's order
+    order = [r.id for r in runner.submission_order(sweep.runs)]
+    assert order == ["a/seed_3", "b/seed_3", "a/seed_1", "b/seed_1", "a/seed_2", "b/seed_2"]
+    # on a resume, the finished runs are left out and the rest keep that order
+    pending = [r for r in sweep.runs if r.id not in {"a/seed_3", "b/seed_1"}]
+    assert [r.id for r in runner.submission_order(sweep.runs, pending)] == [
+        "b/seed_3", "a/seed_1", "a/seed_2", "b/seed_2"]
+
+
 @pytest.mark.parametrize("change, needle", [
     ({"sedes": [1]}, "unknown key 'sedes'"),
     ({"seeds": []}, "seeds must be a non-empty list"),

@@ -31,7 +31,7 @@ import signal
 import subprocess
 import sys
 import time
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 from manyworlds.sweep import spec as spec_module
 
@@ -290,6 +290,23 @@ def _format_duration(seconds: float) -> str:
         f"{seconds // 60}m{seconds % 60:02d}s"
 
 
+def submission_order(runs: Sequence[spec_module.Run],
+                     pending: Sequence[spec_module.Run] | None = None) -> list[spec_module.Run]:
+    """`pending` (default: all of `runs`) seed-major: every method's first seed before any
+    method's second, seeds and methods ranked in the order the sweep's `runs` list them.
+
+    A sweep stopped early (a machine's hours, a session's end) then leaves the same seeds of
+    every method, which compare, rather than every seed of the first method and none of the
+    others."""
+    method_rank: dict[str, int] = {}
+    seed_rank: dict[int, int] = {}
+    for run in runs:
+        method_rank.setdefault(run.method, len(method_rank))
+        seed_rank.setdefault(run.seed, len(seed_rank))
+    return sorted(runs if pending is None else pending,
+                  key=lambda run: (seed_rank[run.seed], method_rank[run.method]))
+
+
 def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume: bool = False,
               address: str | None = None, cli: str | None = None, num_cpus: int | None = None,
               max_retries: int = 3, object_store_mb: int = 200,
@@ -324,7 +341,7 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
         ensure_ray(address, num_cpus, object_store_mb)
         task = ray.remote(_remote_train_run)
         futures = {}
-        for run in pending:
+        for run in submission_order(sweep.runs, pending):
             cpus = sweep.resources.num_cpus or threads[run.method]
             options = {"num_cpus": cpus, "max_retries": max_retries, "retry_exceptions": False}
             if sweep.resources.num_gpus:
