@@ -41,7 +41,7 @@ def _loadavg():
 class Session:
     """Parses the common flags, copies the binary, opens the log and writes its header."""
 
-    def __init__(self, name, description, peer_script):
+    def __init__(self, name, description, peer_script, add_arguments=None):
         today = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
         p = argparse.ArgumentParser(description=description)
         p.add_argument("--rounds", type=int, default=3)
@@ -50,6 +50,8 @@ class Session:
                        help="the peer's Python (with torch)")
         p.add_argument("--tasks", type=int, default=10)
         p.add_argument("--log", default=os.path.join(ROOT, "bench", "logs", f"{name}_{today}.log"))
+        if add_arguments:  # the script's own flags
+            add_arguments(p)
         self.args = p.parse_args()
         self.tmp = tempfile.mkdtemp()
         self.cli = os.path.join(self.tmp, "manyworlds")

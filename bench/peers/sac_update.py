@@ -40,6 +40,18 @@ observation goes in without a one-hot and the networks read the task index of ea
 
 - `mlp` (MT-SAC; the default, and with T = 1 exactly the plain update above): the MLPs see the
   observation followed by a one-hot of the task when T > 1.
+- `multihead` (multi-head SAC, MTRL's `should_use_multi_head_policy`): the MLPs of `mlp`
+  without the one-hot, their last layer T x out wide, each row reading its task's head (as
+  manyworlds' heads: all computed, one gathered).
+- `task_encoder` (MTRL's task encoder): the MLPs read [obs, e(task)], e = TaskEncoder
+  (Embedding(T, `--task-embedding-dim`), ReLU, MLP E-E-E-E) trained by the critic loss; the
+  actor reads it detached; the target critics read the online encoder (task_encoders()).
+- `moe` (CARE's mixture of encoders, MTRL's `moe` encoder): the MLPs read [mix(obs), e(task)],
+  mix = sum_k w_k expert_k(obs) over `--num-experts` experts obs-D-D-D (D =
+  `--encoder-dim`), w = softmax(selector(e(task))) with the encoding detached; the critic loss
+  trains encoder, experts and selector; the target critics read a target copy of the mixture
+  (Polyak with the critics'). One Adam covers critics and encoders (manyworlds: one each, the
+  same settings).
 - `soft_modular` (Soft Modularization, Yang et al. 2020; manyworlds' nn/soft_modular.h): base
   Linear(in, H) ReLU Linear(H, H); task embedding Linear(one-hot, H) times the base output,
   ReLU, a routing MLP of `--routing-layers` x `--routing-hidden`; routing softmaxes
@@ -109,7 +121,9 @@ import argparse
 import os
 import sys
 
-ARCHITECTURES = ("mlp", "soft_modular", "paco", "moore")
+ARCHITECTURES = ("mlp", "multihead", "task_encoder", "moe", "soft_modular", "paco", "moore")
+# The architectures whose learned task encodings (and CARE's mixture) feed plain MLPs.
+ENCODED = ("task_encoder", "moe")
 
 
 def parse_args():
@@ -144,7 +158,9 @@ def parse_args():
     p.add_argument("--routing-layers", type=int, default=2, help="soft_modular")
     p.add_argument("--routing-hidden", type=int, default=256, help="soft_modular")
     p.add_argument("--num-param-sets", type=int, default=5, help="paco")
-    p.add_argument("--num-experts", type=int, default=4, help="moore")
+    p.add_argument("--num-experts", type=int, default=4, help="moore, moe")
+    p.add_argument("--task-embedding-dim", type=int, default=50, help="task_encoder, moe")
+    p.add_argument("--encoder-dim", type=int, default=50, help="moe: the experts' width")
     p.add_argument("--gradnorm", action="store_true",
                    help="mlp: GradNorm task weights for the critic and actor losses")
     p.add_argument("--gradnorm-lr", type=float, default=1e-6, help="gradnorm: Adam lr of w")
@@ -173,8 +189,12 @@ def cpp_layout_params(args, inp, out):
         return i * o + o
 
     t, h = args.tasks, args.hidden
-    if args.architecture == "mlp":
-        widths = [inp + (t if t > 1 else 0)] + [h] * args.layers + [out]
+    if args.architecture == "mlp" or args.architecture in ENCODED:
+        one_hot = t if args.architecture == "mlp" and t > 1 else 0  # encodings are in inp
+        widths = [inp + one_hot] + [h] * args.layers + [out]
+        return sum(linear(i, o) for i, o in zip(widths, widths[1:]))
+    if args.architecture == "multihead":
+        widths = [inp] + [h] * args.layers + [t * out]
         return sum(linear(i, o) for i, o in zip(widths, widths[1:]))
     if args.architecture == "soft_modular":
         n, m, g = args.num_modules, args.module_hidden, args.routing_hidden
@@ -196,8 +216,20 @@ def cpp_layout_params(args, inp, out):
             + h * t * out + t * out)
 
 
+def cpp_encoder_params(args, name):
+    """Parameters of manyworlds' TaskEncoder ("task") or MixtureEncoder ("mixture") as
+    nn/task_conditioning.cc sizes them (task_encoder.cc's layouts)."""
+    def mlp(widths, members=1):
+        return members * sum(i * o + o for i, o in zip(widths, widths[1:]))
+
+    t, e, k, d = args.tasks, args.task_embedding_dim, args.num_experts, args.encoder_dim
+    if name == "task":
+        return t * e + mlp([e, e, e, e])
+    return mlp([args.obs_dim, d, d, d], k) + mlp([e, e, e, k])
+
+
 def task_networks():
-    """The three multi-task networks as nn.Modules, forward(x, task) with x (B, in) and task (B)
+    """The multi-task networks as nn.Modules, forward(x, task) with x (B, in) and task (B)
     int64. Defined in a function because torch may load only after the thread variables are
     set (main)."""
     import math
@@ -333,7 +365,87 @@ def task_networks():
             heads = self.heads(features).view(x.size(0), self.tasks, self.out_dim)
             return heads[torch.arange(x.size(0)), task]
 
-    return {"soft_modular": SoftModularNet, "paco": PacoNet, "moore": MooreNet}
+    class MultiHeadNet(nn.Module):
+        """MTRL's multi-head networks (`should_use_multi_head_policy`): one MLP whose last
+        linear layer gives every task's outputs, each row reading its own task's head."""
+
+        def __init__(self, inp, out, tasks, hidden, layers):
+            super().__init__()
+            mods, width = [], inp
+            for _ in range(layers):
+                mods += [nn.Linear(width, hidden), nn.ReLU()]
+                width = hidden
+            mods.append(nn.Linear(width, tasks * out))  # head t is outputs [t out, (t + 1) out)
+            self.body = nn.Sequential(*mods)
+            self.tasks, self.out_dim = tasks, out
+
+        def forward(self, x, task):
+            heads = self.body(x).view(x.size(0), self.tasks, self.out_dim)
+            return heads[torch.arange(x.size(0)), task]
+
+    return {"multihead": MultiHeadNet, "soft_modular": SoftModularNet, "paco": PacoNet,
+            "moore": MooreNet}
+
+
+def task_encoders(torch, args, obs_dim):
+    """task_encoder and moe: MTRL's TaskEncoder (Embedding(T, E), ReLU, MLP E-E-E-E; every
+    task's encoding at once, rows picked per sample) and, for moe, CARE's mixture of K
+    encoders of the observation (each an MLP obs-D-D-D, the K run as one batched product as
+    MTRL's moe_layer.FeedForward does) mixed per row by softmax(selector(e(task))), the
+    selector an MLP E-E-E-K reading the encoding detached, with a target copy for the target
+    critics. Returns {"task": module() -> (T, E), "mixture": module(obs, z, task) -> (B, D),
+    "mixture_target"}; sizes as manyworlds' nn/task_conditioning.cc."""
+    import copy
+    import math
+
+    from torch import nn
+
+    t, e, k, d = args.tasks, args.task_embedding_dim, args.num_experts, args.encoder_dim
+
+    def mlp(widths):
+        mods = []
+        for i, o in zip(widths, widths[1:]):
+            mods += [nn.Linear(i, o), nn.ReLU()]
+        return nn.Sequential(*mods[:-1])
+
+    class TaskEncoder(nn.Module):
+        def __init__(self):
+            super().__init__()
+            self.embedding = nn.Embedding(t, e)
+            self.mlp = mlp([e, e, e, e])
+
+        def forward(self):
+            return self.mlp(torch.relu(self.embedding.weight))
+
+    class Mixture(nn.Module):
+        def __init__(self):
+            super().__init__()
+            widths = [obs_dim, d, d, d]
+            self.weights = nn.ParameterList(nn.Parameter(torch.empty(k, i, o))
+                                            for i, o in zip(widths, widths[1:]))
+            self.biases = nn.ParameterList(nn.Parameter(torch.zeros(k, 1, o)) for o in widths[1:])
+            with torch.no_grad():
+                for w in self.weights:
+                    bound = 1 / math.sqrt(w.size(1))
+                    w.uniform_(-bound, bound)
+            self.selector = mlp([e, e, e, k])
+
+        def forward(self, x, z, task):
+            weights = torch.softmax(self.selector(z), -1)[task]  # (B, K)
+            h = x.expand(k, *x.shape)
+            for i, (w, b) in enumerate(zip(self.weights, self.biases)):
+                h = torch.baddbmm(b, h, w)
+                if i + 1 < len(self.weights):
+                    h = torch.relu(h)
+            return (weights.t().unsqueeze(-1) * h).sum(0)
+
+    encoders = {"task": TaskEncoder()}
+    if args.architecture == "moe":
+        encoders["mixture"] = Mixture()
+        encoders["mixture_target"] = copy.deepcopy(encoders["mixture"])
+        for p in encoders["mixture_target"].parameters():
+            p.requires_grad_(False)
+    return encoders
 
 
 def main():
@@ -369,13 +481,14 @@ def main():
                 or (args.task_reweight == "auto" and arch == "soft_modular" and disentangled))
     paco_resets = arch == "paco" and args.paco_reset_threshold > 0
 
-    if arch == "mlp":
-        one_hot = num_tasks > 1
+    if arch == "mlp" or arch in ENCODED:
+        one_hot = arch == "mlp" and num_tasks > 1
         net = mlp
     else:
         one_hot = False
         cls = task_networks()[arch]
-        sizes = {"soft_modular": (args.hidden, args.num_modules, args.module_layers,
+        sizes = {"multihead": (args.hidden, args.layers),
+                 "soft_modular": (args.hidden, args.num_modules, args.module_layers,
                                   args.module_hidden, args.routing_layers, args.routing_hidden),
                  "paco": (args.hidden, args.layers, args.num_param_sets),
                  "moore": (args.hidden, args.layers, args.num_experts)}[arch]
@@ -384,7 +497,11 @@ def main():
             return cls(inp, out, num_tasks, *sizes)
 
     o, a, b = args.obs_dim, args.action_dim, args.batch
-    width = o + (num_tasks if one_hot else 0)  # network input without the action
+    # the network input without the action
+    e_dim = args.task_embedding_dim
+    width = {"task_encoder": o + e_dim, "moe": args.encoder_dim + e_dim}.get(
+        arch, o + (num_tasks if one_hot else 0))
+    encoders = task_encoders(torch, args, o) if arch in ENCODED else {}
     actor = net(width, 2 * a)
     qf1, qf2 = net(width + a, 1), net(width + a, 1)
     qf1_target, qf2_target = net(width + a, 1), net(width + a, 1)
@@ -397,7 +514,10 @@ def main():
     if args.foreach:
         adam["foreach"] = True
     q_params = list(qf1.parameters()) + list(qf2.parameters())
-    q_optimizer = torch.optim.Adam(q_params, **adam)
+    # the critic loss trains the encoders too (their own Adams in manyworlds, same settings)
+    encoder_params = [p for name in ("task", "mixture") if name in encoders
+                      for p in encoders[name].parameters()]
+    q_optimizer = torch.optim.Adam(q_params + encoder_params, **adam)
     actor_optimizer = torch.optim.Adam(actor.parameters(), **adam)
     a_optimizer = torch.optim.Adam([log_alpha], **adam)
     target_entropy = -float(a)
@@ -405,17 +525,27 @@ def main():
     log_std_min, log_std_max = -20.0, 2.0
     online = q_params
     targets = list(qf1_target.parameters()) + list(qf2_target.parameters())
+    if "mixture" in encoders:  # CARE's mixture has a target copy, updated with the critics'
+        online = online + list(encoders["mixture"].parameters())
+        targets = targets + list(encoders["mixture_target"].parameters())
 
-    if arch == "mlp":
+    if arch == "mlp" or arch in ENCODED:
         def forward(module, x, task):
             return module(x)
     else:
         def forward(module, x, task):
             return module(x, task)
 
-    def net_input(obs, task):
+    def net_input(obs, task, target=False):
+        """x(obs, task); `target`: with the target mixture (the target critics' input)."""
         if one_hot:
             return torch.cat([obs, nn.functional.one_hot(task, num_tasks).to(obs.dtype)], 1)
+        if arch == "task_encoder":
+            return torch.cat([obs, encoders["task"]()[task]], 1)
+        if arch == "moe":
+            z = encoders["task"]()  # (T, E): every task's encoding, rows picked per sample
+            mixture = encoders["mixture_target" if target else "mixture"]
+            return torch.cat([mixture(obs, z.detach(), task), z[task]], 1)
         return obs
 
     def sample(x, task):
@@ -499,10 +629,12 @@ def main():
         weights = None  # per-sample loss weights
         if reweight:
             weights = num_tasks * torch.softmax(-log_alpha.detach(), 0)[task]
-        x, next_x = net_input(obs, task), net_input(next_obs, task)
+        x = net_input(obs, task)
         with torch.no_grad():
+            next_x = net_input(next_obs, task)
             next_action, next_log_prob = sample(next_x, task)
-            next_in = torch.cat([next_x, next_action], 1)
+            next_x_target = net_input(next_obs, task, target=True) if arch == "moe" else next_x
+            next_in = torch.cat([next_x_target, next_action], 1)
             min_q = torch.min(forward(qf1_target, next_in, task),
                               forward(qf2_target, next_in, task)).squeeze(-1)
             y = reward + discount * (1 - done) * (min_q - alpha * next_log_prob)
@@ -539,6 +671,8 @@ def main():
         if args.no_critic_weight_grads:
             for p in q_params:
                 p.requires_grad_(False)
+        if encoders:
+            x = x.detach()  # the actor reads the encodings detached
         pi, log_prob = sample(x, task)
         pi_in = torch.cat([x, pi], 1)
         min_q_pi = torch.min(forward(qf1, pi_in, task), forward(qf2, pi_in, task)).squeeze(-1)
@@ -595,7 +729,7 @@ def main():
     batches = [random_batch() for _ in range(4)]
     if args.check:
         check(args, torch, actor, qf1, qf2, width, a, batches, update,
-              paco_reset_count if paco_resets else None)
+              paco_reset_count if paco_resets else None, net_input, forward, encoders)
         return
     for i in range(3):
         update(batches[i % 4])
@@ -637,7 +771,8 @@ def count(module):
     return sum(p.numel() for p in module.parameters())
 
 
-def check(args, torch, actor, qf1, qf2, inp, a, batches, update, paco_reset_count):
+def check(args, torch, actor, qf1, qf2, inp, a, batches, update, paco_reset_count, net_input,
+          forward, encoders):
     """--check: shapes, task dependence, the architectures' invariants, finite parameters after
     two updates, parameter counts against manyworlds' layout. Prints JSON; raises on failure."""
     import json
@@ -645,27 +780,21 @@ def check(args, torch, actor, qf1, qf2, inp, a, batches, update, paco_reset_coun
     arch, t = args.architecture, args.tasks
     obs, action, _, _, _, task = batches[0]
     b = obs.size(0)
-    if arch == "mlp" and t > 1:
-        x = torch.cat([obs, torch.nn.functional.one_hot(task, t).float()], 1)
-    else:
-        x = obs
     report = {"architecture": arch, "tasks": t, "params": {}, "checks": []}
     with torch.no_grad():
         for name, module, width, out in (("actor", actor, inp, 2 * a),
                                          ("critic", qf1, inp + a, 1)):
-            xi = x if name == "actor" else torch.cat([x, action], 1)
-            y = module(xi) if arch == "mlp" else module(xi, task)
+            def output(task_index):
+                xi = net_input(obs, task_index)
+                if name == "critic":
+                    xi = torch.cat([xi, action], 1)
+                return forward(module, xi, task_index)
+
+            y = output(task)
             assert y.shape == (b, out), f"{name}: output {tuple(y.shape)}, expected {(b, out)}"
             report["checks"].append(f"{name} output {tuple(y.shape)}")
             if t > 1:
-                other = (task + 1) % t
-                if arch == "mlp":
-                    xo = torch.cat([obs, torch.nn.functional.one_hot(other, t).float()], 1)
-                    if name == "critic":
-                        xo = torch.cat([xo, action], 1)
-                    yo = module(xo)
-                else:
-                    yo = module(xi, other)
+                yo = output((task + 1) % t)
                 diff = (y - yo).abs().max().item()
                 assert diff > 0, f"{name}: the output does not depend on the task"
                 report["checks"].append(
@@ -677,6 +806,11 @@ def check(args, torch, actor, qf1, qf2, inp, a, batches, update, paco_reset_coun
         report["params"]["twin_critics"] = {
             "pytorch": count(qf1) + count(qf2),
             "manyworlds_layout": 2 * report["params"]["critic"]["manyworlds_layout"]}
+        for name in ("task", "mixture"):
+            if name in encoders:
+                ours, cpp = count(encoders[name]), cpp_encoder_params(args, name)
+                report["params"][f"{name} encoder"] = {"pytorch": ours, "manyworlds_layout": cpp}
+                assert ours == cpp, f"{name} encoder: {ours} parameters, manyworlds' has {cpp}"
         if arch == "moore":
             basis = actor.basis(obs)
             gram = basis @ basis.transpose(1, 2)
