@@ -199,6 +199,11 @@ TEST(CliTest, CountsMemoryAndThreadsThatCannotWorkAreOneErrorLine) {
   const RunResult threads = test_support::RunProgram(
       "/bin/sh", "-c \"ulimit -v 1500000; '" + std::string(MANYWORLDS_CLI_PATH) +
                      "' rollout --env cartpole --episodes 300 --threads 256\"", dir);
+  if (threads.err.find("error while loading shared libraries") != std::string::npos) {
+    // a CUDA libtorch's libraries alone take more address space than the limit
+    fs::remove_all(dir);
+    GTEST_SKIP() << "the program cannot load under ulimit -v 1500000: " << threads.err;
+  }
   EXPECT_EQ(threads.exit_code, 1) << threads.err;
   EXPECT_TRUE(IsOneErrorLine(threads.err)) << threads.err;
   EXPECT_NE(threads.err.find("cannot start thread"), std::string::npos) << threads.err;
