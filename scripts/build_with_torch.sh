@@ -5,6 +5,7 @@
 #
 #   scripts/build_with_torch.sh --python .venv-torch/bin/python            # build-torch/, Release
 #   scripts/build_with_torch.sh --python PY --build-dir DIR --tests         # and the C++ tests
+#   scripts/build_with_torch.sh --python PY --configure-only                 # CMake's step only
 #   ctest --test-dir build-torch -LE slow -j2                                # then run them
 #
 # What it settles for a wheel's libtorch (docs/usage.md#building-against-another-libtorch):
@@ -19,13 +20,15 @@ cd "$(dirname "$0")/.."
 python=python3
 build_dir=build-torch
 tests=OFF
+configure_only=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --python) python=${2:?--python needs a path}; shift 2 ;;
     --build-dir) build_dir=${2:?--build-dir needs a path}; shift 2 ;;
     --tests) tests=ON; shift ;;
+    --configure-only) configure_only=1; shift ;;
     -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
-    *) echo "build_with_torch.sh: unknown argument '$1'; allowed: --python PY, --build-dir DIR, --tests, --help" >&2
+    *) echo "build_with_torch.sh: unknown argument '$1'; allowed: --python PY, --build-dir DIR, --tests, --configure-only, --help" >&2
        exit 2 ;;
   esac
 done
@@ -58,5 +61,6 @@ TORCH_CUDA_ARCH_LIST=${TORCH_CUDA_ARCH_LIST:-${arch_list:-9.0}} \
   cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DMANYWORLDS_BUILD_TESTS="$tests" \
     -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_EXE_LINKER_FLAGS="$link_flags" \
     -DCMAKE_SHARED_LINKER_FLAGS="$link_flags" "${launcher[@]}"
+[ "$configure_only" -eq 0 ] || exit 0
 cmake --build "$build_dir" -j"$(nproc)"
 echo "build_with_torch.sh: built $build_dir/manyworlds against torch $version"
