@@ -121,6 +121,23 @@ def test_runs_are_submitted_seed_major_so_an_early_stop_leaves_every_method_its_
         "b/seed_3", "a/seed_1", "a/seed_2", "b/seed_2"]
 
 
+def test_a_sweep_directory_from_another_checkout_resumes_but_not_another_sweep(tmp_path):
+    config = write(tmp_path / "tiny.yaml", TINY_CONFIG)
+    sweep = spec.parse({"seeds": [1, 2], "groups": [{"config": str(config), "name": "a"}]})
+    out = tmp_path / "sweep"
+    out.mkdir()
+    # the manifest as another checkout wrote it: the same runs, the config at another path
+    manifest = sweep.manifest()
+    for run in manifest["runs"]:
+        run["config"] = "/elsewhere/checkout/configs/tiny.yaml"
+    (out / runner.MANIFEST).write_text(json.dumps(manifest))
+    runner.prepare(sweep, out, resume=True)
+    manifest["runs"][1]["overrides"] = {"agent.lr": 0.1}
+    (out / runner.MANIFEST).write_text(json.dumps(manifest))
+    with pytest.raises(runner.SweepError, match="holds another sweep"):
+        runner.prepare(sweep, out, resume=True)
+
+
 @pytest.mark.parametrize("change, needle", [
     ({"sedes": [1]}, "unknown key 'sedes'"),
     ({"seeds": []}, "seeds must be a non-empty list"),

@@ -227,6 +227,16 @@ class SweepLock:
         os.close(self.fd)
 
 
+def _portable(runs: Any) -> Any:
+    """The runs of a manifest as a resumed sweep compares them: each config by its file name,
+    so that a sweep directory copied to another checkout or machine resumes there (the program
+    reads the config from the sweep file's folder either way)."""
+    if not isinstance(runs, list):
+        return runs
+    return [{**run, "config": pathlib.PurePath(str(run.get("config", ""))).name}
+            if isinstance(run, dict) else run for run in runs]
+
+
 def prepare(sweep: spec_module.Sweep, sweep_dir: pathlib.Path, resume: bool) -> None:
     """Creates SWEEP_DIR and its manifest, or checks that a resumed sweep is the same sweep."""
     manifest_path = sweep_dir / MANIFEST
@@ -239,7 +249,7 @@ def prepare(sweep: spec_module.Sweep, sweep_dir: pathlib.Path, resume: bool) -> 
             stored = json.loads(manifest_path.read_text())
         except (OSError, ValueError) as error:
             raise SweepError(f"{manifest_path} is unreadable or damaged: {error}") from None
-        if stored.get("runs") != manifest["runs"]:
+        if _portable(stored.get("runs")) != _portable(manifest["runs"]):
             stored_ids = [r.get("id") for r in stored.get("runs", []) if isinstance(r, dict)]
             ours = [r["id"] for r in manifest["runs"]]
             differ = sorted(set(stored_ids) ^ set(ours)) or ["(same runs, other settings)"]
