@@ -7,6 +7,14 @@
 #include "manyworlds/core/error.h"
 
 namespace manyworlds::agents {
+namespace {
+
+// GradNorm's last shared layers among the models' parameters (latent_models.cc's order): the
+// transition model's mean layer weight and the reward model's output layer weight.
+constexpr size_t kTransitionMeanWeight = 4;
+constexpr size_t kRewardOutputWeight = 4;
+
+}  // namespace
 
 void DeepMdpConfig::Validate() const {
   SacAeConfig::Validate();
@@ -123,7 +131,8 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
     const double combined =
         Backward(transition_loss + reward_loss, batch.task_index,
                  {transition_.get(), reward_.get(), encoder.get()}, own_theta, gradnorm_model_,
-                 {transition_->params()[4], reward_->params()[4]});
+                 {transition_->params()[kTransitionMeanWeight],
+                  reward_->params()[kRewardOutputWeight]});
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     reward_optimizer_.Step(reward_->flat(), reward_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
@@ -150,7 +159,8 @@ Metrics DeepMdpLearner::Update(const Batch& batch) {
     const double combined =
         Backward(per_sample, batch.task_index, {transition_.get(), decoder_.get(), encoder.get()},
                  own_theta, gradnorm_decoder_,
-                 {transition_->params()[4], decoder_params[decoder_params.size() - 2]});
+                 {transition_->params()[kTransitionMeanWeight],
+                  decoder_params[decoder_params.size() - 2]});
     transition_optimizer_.Step(transition_->flat(), transition_->flat_grad());
     decoder_optimizer_.Step(decoder_->flat(), decoder_->flat_grad());
     encoder_optimizer_.Step(encoder->flat(), encoder->flat_grad());
