@@ -121,6 +121,28 @@ def test_runs_are_submitted_seed_major_so_an_early_stop_leaves_every_method_its_
         "b/seed_3", "a/seed_1", "a/seed_2", "b/seed_2"]
 
 
+def test_the_eta_counts_the_runs_going_and_the_slots(tmp_path):
+    # two slots, one run of 62 minutes finished, its twin nearly done, eight waiting: four more
+    # waves of 62 minutes (the rate of finished runs alone said 9h18m)
+    eta = runner.estimate_eta([3720.0], [3700.0], 8, 2)
+    assert eta == pytest.approx((20 + 8 * 3720) / 2)
+    assert runner.estimate_eta([], [10.0], 3, 2) is None  # nothing finished: unknown
+    assert runner.estimate_eta([10.0], [2.0], 0, 4) == pytest.approx(8.0)  # the last run's rest
+    assert runner.estimate_eta([10.0], [30.0], 0, 1) == 0.0  # overdue: no negative time
+    # the times come from attempts.jsonl: this driver's launches, failed attempts not counted
+    lines = [{"run": "a/seed_1", "event": "start", "time": 50.0},    # an earlier driver's
+             {"run": "a/seed_1", "event": "start", "time": 100.0},
+             {"run": "b/seed_1", "event": "resume", "time": 110.0},
+             {"run": "a/seed_1", "event": "pid", "pid": 7, "time": 100.5},
+             {"run": "a/seed_1", "event": "exit", "code": 0, "time": 160.0},
+             {"run": "c/seed_1", "event": "start", "time": 120.0},
+             {"run": "c/seed_1", "event": "exit", "code": 1, "time": 130.0}]
+    (tmp_path / runner.ATTEMPTS).write_text("".join(json.dumps(line) + "\n" for line in lines))
+    durations, running = runner._run_times(tmp_path, since=90.0)
+    assert durations == {"a/seed_1": 60.0}
+    assert running == {"b/seed_1": 110.0}
+
+
 def test_a_sweep_directory_from_another_checkout_resumes_but_not_another_sweep(tmp_path):
     config = write(tmp_path / "tiny.yaml", TINY_CONFIG)
     sweep = spec.parse({"seeds": [1, 2], "groups": [{"config": str(config), "name": "a"}]})

@@ -294,6 +294,37 @@ def read_jsonl(path: str | pathlib.Path) -> list[dict[str, Any]]:
     return rows
 
 
+def estimate_eta(finished_s: Sequence[float], running_s: Sequence[float], waiting: int,
+                 slots: int) -> float | None:
+    """Seconds until the sweep ends: the runs still going (`running_s`: how long each has run)
+    and `waiting` runs not started yet, on `slots` runs at a time, each taking the mean of the
+    runs finished so far (`finished_s`, their durations). None before any run has finished."""
+    if not finished_s:
+        return None
+    duration = sum(finished_s) / len(finished_s)
+    left = [max(duration - elapsed, 0.0) for elapsed in running_s]
+    work = sum(left) + waiting * duration
+    return max(work / max(slots, 1), max(left, default=0.0))
+
+
+def _run_times(sweep_dir: pathlib.Path, since: float) -> tuple[dict[str, float], dict[str, float]]:
+    """From attempts.jsonl, for this driver's launches (after `since`, a time.time()): the
+    durations of the runs that exited 0 and the start times of the runs still going."""
+    started: dict[str, float] = {}
+    durations: dict[str, float] = {}
+    for event in attempts(sweep_dir):
+        run, when = event.get("run"), event.get("time")
+        if not isinstance(run, str) or not isinstance(when, (int, float)) or when < since:
+            continue
+        if event.get("event") in ("start", "resume", "restart"):
+            started.setdefault(run, float(when))
+        elif event.get("event") == "exit" and run in started:
+            if event.get("code") == 0:
+                durations[run] = float(when) - started[run]
+            started.pop(run)
+    return durations, started
+
+
 def _format_duration(seconds: float) -> str:
     seconds = int(round(seconds))
     return f"{seconds // 3600}h{seconds % 3600 // 60:02d}m" if seconds >= 3600 else \
@@ -358,6 +389,10 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
                 options["num_gpus"] = sweep.resources.num_gpus
             futures[task.options(**options).remote(cli, run.to_json(), str(sweep_dir))] = run
         start = time.monotonic()
+        since = time.time()
+        # runs at once: the cluster's CPUs over a run's (the mean over the pending runs)
+        per_run = sum(sweep.resources.num_cpus or threads[r.method] for r in pending) / len(pending)
+        slots = max(1, int(ray.cluster_resources().get("CPU", 1) // max(per_run, 1e-9)))
         remaining = list(futures)
         while remaining:
             ready, remaining = ray.wait(remaining, num_returns=1)
@@ -370,11 +405,14 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
                 result["failed"][run.id] = str(cause).strip().splitlines()[-1]
             done = len(futures) - len(remaining)
             elapsed = time.monotonic() - start
-            rate = done / elapsed if elapsed > 0 else 0.0
-            eta = len(remaining) / rate if rate > 0 else 0.0
+            durations, running = _run_times(sweep_dir, since)
+            now = time.time()
+            eta = estimate_eta(list(durations.values()), [now - t for t in running.values()],
+                               max(len(remaining) - len(running), 0), slots)
             say(f"sweep {sweep.name}: {done}/{len(futures)} runs done "
-                f"({len(result['failed'])} failed), {rate * 60:.1f} runs/min, "
-                f"ETA {_format_duration(eta)}: {run.id} "
+                f"({len(result['failed'])} failed) in {_format_duration(elapsed)}, "
+                f"{60 * done / elapsed if elapsed > 0 else 0.0:.2f} runs/min, "
+                f"ETA {'unknown' if eta is None else _format_duration(eta)}: {run.id} "
                 f"{'failed' if run.id in result['failed'] else 'finished'}")
         return result
     finally:
