@@ -312,7 +312,11 @@ def _run_times(sweep_dir: pathlib.Path, since: float) -> tuple[dict[str, float],
     durations of the runs that exited 0 and the start times of the runs still going."""
     started: dict[str, float] = {}
     durations: dict[str, float] = {}
-    for event in attempts(sweep_dir):
+    try:
+        events = attempts(sweep_dir)
+    except OSError:  # progress only: an unreadable log leaves the time left unknown
+        events = []
+    for event in events:
         run, when = event.get("run"), event.get("time")
         if not isinstance(run, str) or not isinstance(when, (int, float)) or when < since:
             continue
