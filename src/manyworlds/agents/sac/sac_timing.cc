@@ -40,6 +40,10 @@ SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int acti
   for (int i = 0; i < kWarmup; ++i) sac.Update(batches[i % kBatches]);
   SacTimingResult result;
   result.update_threads = sac.update_threads();
+  result.actor_params = sac.actor()->trunk()->num_params();
+  result.critic_params = sac.critic()->online()->num_params();
+  if (sac.task_encoder()) result.task_encoder_params = sac.task_encoder()->num_params();
+  if (sac.encoder()) result.mixture_params = sac.encoder()->num_params();
   for (int r = 0; r < repeats; ++r) {
     const auto start = std::chrono::steady_clock::now();
     for (int i = 0; i < updates; ++i) sac.Update(batches[i % kBatches]);

@@ -2,6 +2,7 @@
 #ifndef MANYWORLDS_AGENTS_SAC_SAC_TIMING_H_
 #define MANYWORLDS_AGENTS_SAC_SAC_TIMING_H_
 
+#include <cstdint>
 #include <vector>
 
 #include "manyworlds/agents/sac/sac_config.h"
@@ -12,6 +13,9 @@ struct SacTimingResult {
   double updates_per_s = 0.0;   // median of samples
   std::vector<double> samples;  // updates per second of each repeat, in run order
   int update_threads = 1;       // threads the learner ran its update shards on
+  // Parameters of the learner's networks: actor, the two online critics, and
+  // the task encoder and mixture encoder where the architecture has them (0 otherwise).
+  int64_t actor_params = 0, critic_params = 0, task_encoder_params = 0, mixture_params = 0;
 };
 
 // Builds a SacLearner(config, obs_dim, action_dim, num_tasks), runs 3
