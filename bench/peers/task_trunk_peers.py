@@ -54,7 +54,8 @@ def main():
 
     def add_arguments(p):
         p.add_argument("--only", type=architectures, default=labels,
-                       help=f"comma-separated architectures to run (default all: {','.join(labels)})")
+                       help="comma-separated architectures to run "
+                            f"(default all: {','.join(labels)})")
 
     s = Session("task_trunk_peers", __doc__.split("\n\n")[0], "sac_update.py", add_arguments)
     only = s.args.only
