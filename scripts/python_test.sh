@@ -75,8 +75,9 @@ export MANYWORLDS_METAWORLD_PYTHON="$metaworld_venv/bin/python"
 # loadfile: the fidelity files record the official package's steps once per file).
 workers=(-n "$(nproc)" --dist loadfile)
 [ "$(nproc)" -le 1 ] && workers=()
+# --durations: the slowest tests named in the log, to keep the suite within CI's budget
 set +e
-"$venv/bin/python" -m pytest -p no:cacheprovider -q "${workers[@]}" python/tests "$@"
+"$venv/bin/python" -m pytest -p no:cacheprovider -q --durations=15 "${workers[@]}" python/tests "$@"
 status=$?
 set -e
 if [ "$status" -eq 5 ]; then
