@@ -76,7 +76,8 @@ nlohmann::json ThreadsJson() {
   const nn::ThreadInfo threads = nn::CurrentThreads();
   return {{"torch_intra_op", threads.torch_intra_op},
           {"blas", threads.blas_threads},
-          {"blas_core", threads.blas_core}};
+          {"blas_core", threads.blas_core},
+          {"gemm", threads.gemm}};
 }
 
 template <class Config>
@@ -419,7 +420,8 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
                                   {"torch_inter_op", threads.torch_inter_op},
                                   {"blas", threads.blas_threads},
                                   {"blas_core", threads.blas_core},
-                                  {"blas_library", threads.blas}}}});
+                                  {"blas_library", threads.blas},
+                                  {"gemm", threads.gemm}}}});
   std::ostringstream summary;
   summary << "sac (" << args.architecture << (args.pcgrad ? " + pcgrad" : "")
           << (args.gradnorm ? " + gradnorm" : "") << ", " << args.tasks
@@ -431,7 +433,8 @@ AgentBenchResult BenchSacUpdates(const std::string& algo, const AgentBenchSizes&
           << " thread" << (r.update_threads == 1 ? "" : "s") << "; torch intra-op "
           << threads.torch_intra_op << ", inter-op " << threads.torch_inter_op << "; BLAS "
           << (threads.blas_threads < 0 ? std::string("?") : std::to_string(threads.blas_threads))
-          << " (" << threads.blas << "; kernels " << threads.blas_core << ")\nsamples:";
+          << " (" << threads.blas << "; kernels " << threads.blas_core << "); products on "
+          << (threads.gemm == "onednn" ? "oneDNN" : "the BLAS") << "\nsamples:";
   for (double s : r.samples) summary << " " << Fixed(s, 1);
   summary << "\n";
   result.summary = summary.str();

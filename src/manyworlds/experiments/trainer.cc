@@ -215,6 +215,14 @@ void Trainer::Impl::CheckThreads(const fs::path& dir, const nlohmann::json& stat
                        core_then + "', this machine uses '" + now.blas_core +
                        "': the numbers will differ from an uninterrupted run in the last digits");
   }
+  // checkpoints from before the oneDNN products ran every product on the BLAS
+  const std::string gemm_then = saved.value("gemm", std::string("blas"));
+  if (gemm_then != now.gemm) {
+    warnings.push_back("checkpoint '" + dir.string() + "' was written with products on '" +
+                       gemm_then + "', this program runs them on '" + now.gemm +
+                       "' (MANYWORLDS_GEMM): the numbers will differ from an uninterrupted run "
+                       "in the last digits");
+  }
 }
 
 void Trainer::Impl::LoadCheckpoint(const fs::path& dir) {

@@ -66,6 +66,8 @@ ThreadInfo CurrentThreads() {
   info.blas = config != nullptr ? std::string(config()) : "unknown";
   auto core = FindBlasFunction<char* (*)()>("openblas_get_corename");
   info.blas_core = core != nullptr ? std::string(core()) : "unknown";
+  auto gemm = FindBlasFunction<const char* (*)()>("manyworlds_gemm_library");
+  info.gemm = gemm != nullptr ? std::string(gemm()) : "blas";
   return info;
 }
 

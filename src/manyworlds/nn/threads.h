@@ -31,6 +31,10 @@
 // The default (ConfigureTorchThreads) is therefore torch 1, with BLAS at one
 // thread when the caller runs its own threads and left at its own default
 // (one thread per core) otherwise.
+// The products themselves run on oneDNN in this project's programs
+// (preinit/gemm_onednn.cc) with OpenBLAS's thread count: "BLAS threads" below
+// are the products' threads whichever library runs them. The figures above
+// were measured on OpenBLAS.
 #ifndef MANYWORLDS_NN_THREADS_H_
 #define MANYWORLDS_NN_THREADS_H_
 
@@ -57,6 +61,9 @@ struct ThreadInfo {
   int blas_threads = -1;  // -1 when the BLAS library cannot say
   std::string blas;       // openblas_get_config(), or "unknown"
   std::string blas_core;  // openblas_get_corename() (the kernels in use), or "unknown"
+  // What runs libtorch's float products: "onednn" (preinit/gemm_onednn.cc, this project's
+  // programs) or "blas" (the BLAS library: MANYWORLDS_GEMM=openblas, or a program without it).
+  std::string gemm;
 };
 ThreadInfo CurrentThreads();
 

@@ -199,7 +199,8 @@ nlohmann::json ThreadRecord() {
   const nn::ThreadInfo threads = nn::CurrentThreads();
   return {{"torch_intra_op", threads.torch_intra_op},
           {"blas_threads", threads.blas_threads},
-          {"blas_core", threads.blas_core}};
+          {"blas_core", threads.blas_core},
+          {"gemm", threads.gemm}};
 }
 
 std::optional<std::string> ThreadCountMismatch(const fs::path& checkpoint,
