@@ -40,6 +40,11 @@ B=build/manyworlds
     # The products an update is made of, alone: the ceiling for the above.
     build/bench/bench_gemm --benchmark_repetitions=3 \
       --benchmark_report_aggregates_only=true --benchmark_min_time=0.3
+    # The GEMM libraries at those shapes (the products run on oneDNN; docs/benchmarks.md),
+    # and an update with the products on OpenBLAS instead.
+    build/bench/bench_blas --benchmark_repetitions=5 --benchmark_enable_random_interleaving=true \
+      --benchmark_report_aggregates_only=true --benchmark_min_time=0.2
+    MANYWORLDS_GEMM=openblas $B bench agent --tasks 1
     for arch in mlp multihead task_encoder moe; do
       $B bench agent --architecture $arch --tasks 10 --disentangled-alpha
     done
