@@ -16,6 +16,7 @@
 //                                 (x W^T), input gradient (g W), weight gradient (g^T x)
 // Counter GFLOP/s: 2 M K N per product. Run with --benchmark_enable_random_interleaving=true
 // and repetitions so that the libraries alternate on a noisy machine (docs/benchmarks.md).
+#include <benchmark/benchmark.h>
 #include <dlfcn.h>
 
 #include <cstdint>
@@ -25,13 +26,11 @@
 #include <string>
 #include <vector>
 
-#include <benchmark/benchmark.h>
-
 namespace {
 
 // C (M x N) = op(A) op(B), row-major, alpha 1, beta 0.
-using Sgemm = void (*)(bool trans_a, bool trans_b, int64_t m, int64_t n, int64_t k,
-                       const float* a, const float* b, float* c);
+using Sgemm = void (*)(bool trans_a, bool trans_b, int64_t m, int64_t n, int64_t k, const float* a,
+                       const float* b, float* c);
 
 struct Library {
   std::string name;
@@ -53,14 +52,14 @@ template <CblasSgemm* fn>
 void CallCblas(bool ta, bool tb, int64_t m, int64_t n, int64_t k, const float* a, const float* b,
                float* c) {
   (*fn)(101, ta ? 112 : 111, tb ? 112 : 111, static_cast<int>(m), static_cast<int>(n),
-        static_cast<int>(k), 1.0f, a, static_cast<int>(ta ? m : k), b,
-        static_cast<int>(tb ? k : n), 0.0f, c, static_cast<int>(n));
+        static_cast<int>(k), 1.0f, a, static_cast<int>(ta ? m : k), b, static_cast<int>(tb ? k : n),
+        0.0f, c, static_cast<int>(n));
 }
 
 void CallDnnl(bool ta, bool tb, int64_t m, int64_t n, int64_t k, const float* a, const float* b,
               float* c) {
-  dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, ta ? m : k, b, tb ? k : n, 0.0f,
-             c, n);
+  dnnl_sgemm(ta ? 'T' : 'N', tb ? 'T' : 'N', m, n, k, 1.0f, a, ta ? m : k, b, tb ? k : n, 0.0f, c,
+             n);
 }
 
 void* Open(const std::vector<std::string>& paths, std::string& missing) {
@@ -87,9 +86,9 @@ std::vector<Library> LoadLibraries() {
   }
   {
     Library l{"blis", nullptr, ""};
-    if (void* h = Open({lib + "blis-pthread/libblis.so.4", lib + "blis-openmp/libblis.so.4",
-                        "libblis.so.4"},
-                       l.missing)) {
+    if (void* h = Open(
+            {lib + "blis-pthread/libblis.so.4", lib + "blis-openmp/libblis.so.4", "libblis.so.4"},
+            l.missing)) {
       blis_sgemm = reinterpret_cast<CblasSgemm>(dlsym(h, "cblas_sgemm"));
       if (auto threads =
               reinterpret_cast<void (*)(int64_t)>(dlsym(h, "bli_thread_set_num_threads"))) {
@@ -178,11 +177,10 @@ int main(int argc, char** argv) {
     LayerProducts(1280, 400, 400, true, layer);
     const char* names[] = {"forward", "input_gradient", "weight_gradient"};
     for (size_t i = 0; i < layer.size(); ++i) {
-      benchmark::RegisterBenchmark(
-          ("BM_Product/" + library.name + "/" + names[i]).c_str(),
-          [&library, product = layer[i]](benchmark::State& state) {
-            Run(state, library, {product});
-          });
+      benchmark::RegisterBenchmark(("BM_Product/" + library.name + "/" + names[i]).c_str(),
+                                   [&library, product = layer[i]](benchmark::State& state) {
+                                     Run(state, library, {product});
+                                   });
     }
   }
   benchmark::Initialize(&argc, argv);

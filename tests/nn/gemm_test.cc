@@ -2,10 +2,8 @@
 // accumulation libtorch hands to sgemm_ gives the product, within float rounding of a double
 // reference, and a product repeats bit for bit.
 #include <dlfcn.h>
-
-#include <torch/torch.h>
-
 #include <gtest/gtest.h>
+#include <torch/torch.h>
 
 #include "manyworlds/nn/threads.h"
 
@@ -50,9 +48,9 @@ TEST(GemmTest, EveryTransposeAndStrideGivesTheProduct) {
   // leading dimensions larger than the rows: slices of wider matrices
   const torch::Tensor wide_a = Random({70, 60}, 3).narrow(1, 5, 45);
   const torch::Tensor wide_b = Random({45, 50}, 4).narrow(1, 10, 33);
-  EXPECT_LT(RelativeError(wide_a.mm(wide_b),
-                          wide_a.to(torch::kDouble).mm(wide_b.to(torch::kDouble))),
-            1e-5);
+  EXPECT_LT(
+      RelativeError(wide_a.mm(wide_b), wide_a.to(torch::kDouble).mm(wide_b.to(torch::kDouble))),
+      1e-5);
   // Linear's three products: x W^T, g W, g^T x
   const torch::Tensor x = Random({128, 49}, 5), w = Random({400, 49}, 6), g = Random({128, 400}, 7);
   EXPECT_LT(RelativeError(torch::linear(x, w), x.to(torch::kDouble).mm(w.to(torch::kDouble).t())),

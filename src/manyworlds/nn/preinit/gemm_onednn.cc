@@ -47,7 +47,8 @@ const Gemm& Resolve() {
       g.onednn = reinterpret_cast<DnnlSgemm>(dlsym(RTLD_DEFAULT, "dnnl_sgemm"));
       g.blas_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
       g.omp_max_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_threads"));
-      g.omp_set_threads = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
+      g.omp_set_threads =
+          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
       if (g.omp_max_threads == nullptr || g.omp_set_threads == nullptr) g.onednn = nullptr;
     }
     return g;
@@ -74,8 +75,8 @@ void sgemm_(const char* transa, const char* transb, const int* m, const int* n, 
     const int saved = gemm.omp_max_threads();
     const int threads = gemm.blas_threads != nullptr ? gemm.blas_threads() : saved;
     if (threads != saved) gemm.omp_set_threads(threads);
-    const int status = gemm.onednn(*transb, *transa, *n, *m, *k, *alpha, b, *ldb, a, *lda, *beta,
-                                   c, *ldc);
+    const int status =
+        gemm.onednn(*transb, *transa, *n, *m, *k, *alpha, b, *ldb, a, *lda, *beta, c, *ldc);
     if (threads != saved) gemm.omp_set_threads(saved);
     if (status == 0) return;  // dnnl_success
     refused_products.fetch_add(1, std::memory_order_relaxed);
