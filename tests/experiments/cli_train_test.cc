@@ -2,12 +2,14 @@
 // tiny config writes every run-directory file, eval reads it back, resume
 // continues, and bad input gives one error line and the documented exit code.
 #include <gtest/gtest.h>
+#include <dlfcn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -186,6 +188,32 @@ int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& ar
 // A signal while training: the iteration finishes, a checkpoint is written,
 // the program exits with 128 + the signal, leaving no temporary file, and
 // the run resumes from that checkpoint.
+// A run trained with its products on OpenBLAS and resumed on oneDNN (or the other way round)
+// cannot repeat the uninterrupted numbers: resume says so, and still resumes.
+TEST(CliTrainTest, ResumingOnAnotherGemmLibraryWarnsThatTheNumbersWillDiffer) {
+  if (dlsym(RTLD_DEFAULT, "dnnl_sgemm") == nullptr) {
+    GTEST_SKIP() << "this libtorch brings no oneDNN: every product runs on its BLAS";
+  }
+  const fs::path dir = ScratchDir();
+  std::ofstream(dir / "tiny.yaml") << kTinyConfig;
+  setenv("MANYWORLDS_GEMM", "openblas", /*overwrite=*/1);
+  const RunResult stop = RunCli("train tiny.yaml experiment.run_dir=part --stop-after 150", dir);
+  unsetenv("MANYWORLDS_GEMM");
+  ASSERT_EQ(stop.exit_code, 0) << stop.err;
+  const RunResult resume = RunCli("train --resume part", dir);
+  ASSERT_EQ(resume.exit_code, 0) << resume.err;
+  EXPECT_NE(resume.err.find("written with products on 'blas', this program runs them on 'onednn'"),
+            std::string::npos)
+      << resume.err;
+  EXPECT_TRUE(fs::exists(dir / "part/summary.json"));
+  // the same library on both sides: no such warning
+  ASSERT_EQ(RunCli("train tiny.yaml experiment.run_dir=same --stop-after 150", dir).exit_code, 0);
+  const RunResult same = RunCli("train --resume same", dir);
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_EQ(same.err.find("written with products on"), std::string::npos) << same.err;
+  fs::remove_all(dir);
+}
+
 TEST(CliTrainTest, SignalsStopTrainingAtACheckpoint) {
   const fs::path dir = ScratchDir();
   std::ofstream(dir / "tiny.yaml") << kTinyConfig;
