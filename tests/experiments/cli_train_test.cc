@@ -185,9 +185,6 @@ int SignalDuringTraining(const fs::path& dir, const std::vector<std::string>& ar
   return status;
 }
 
-// A signal while training: the iteration finishes, a checkpoint is written,
-// the program exits with 128 + the signal, leaving no temporary file, and
-// the run resumes from that checkpoint.
 // A run trained with its products on OpenBLAS and resumed on oneDNN (or the other way round)
 // cannot repeat the uninterrupted numbers: resume says so, and still resumes.
 TEST(CliTrainTest, ResumingOnAnotherGemmLibraryWarnsThatTheNumbersWillDiffer) {
@@ -214,6 +211,9 @@ TEST(CliTrainTest, ResumingOnAnotherGemmLibraryWarnsThatTheNumbersWillDiffer) {
   fs::remove_all(dir);
 }
 
+// A signal while training: the iteration finishes, a checkpoint is written,
+// the program exits with 128 + the signal, leaving no temporary file, and
+// the run resumes from that checkpoint.
 TEST(CliTrainTest, SignalsStopTrainingAtACheckpoint) {
   const fs::path dir = ScratchDir();
   std::ofstream(dir / "tiny.yaml") << kTinyConfig;

@@ -98,7 +98,6 @@ void Leaves(const nlohmann::json& tree, const std::string& prefix, std::vector<s
 
 struct Case {
   const AlgorithmInfo* info;
-  std::string algo;
   fs::path config;
   std::string key;
   std::string value;
@@ -168,7 +167,7 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
       const bool shared = key.rfind("agent.", 0) != 0;
       if (shared && !shared_keys_done.insert(key).second) continue;
       for (const std::string& value : HostileValues()) {
-        cases.push_back({&info, info.name, config, key, value});
+        cases.push_back({&info, config, key, value});
       }
     }
   }
@@ -179,7 +178,7 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
   size_t failed = 0;
   auto fail = [&](const Case& c, const std::string& why) {
     if (++failed <= 60) {
-      failures += "\n  " + c.algo + " " + c.key + "=" + Shown(c.value) + ": " + why;
+      failures += "\n  " + c.info->name + " " + c.key + "=" + Shown(c.value) + ": " + why;
     }
   };
   for (size_t i = 0; i < cases.size(); ++i) {
@@ -208,7 +207,7 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
       ++errors;
       if (std::getenv("MANYWORLDS_PROBE_VERBOSE") != nullptr) {
         const Case& c = cases[accepted[k]];
-        std::printf("  %s %s=%s: %s\n", c.algo.c_str(), c.key.c_str(), Shown(c.value).c_str(),
+        std::printf("  %s %s=%s: %s\n", c.info->name.c_str(), c.key.c_str(), Shown(c.value).c_str(),
                     verdict.c_str() + 1);
       }
     } else {

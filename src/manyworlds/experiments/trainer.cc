@@ -209,20 +209,20 @@ void Trainer::Impl::CheckThreads(const fs::path& dir, const nlohmann::json& stat
                       std::to_string(saved.value("blas_threads", int64_t{-1})) +
                       " (and the run's own config)");
   }
-  const std::string core_then = saved.value("blas_core", std::string("unknown"));
-  if (core_then != now.blas_core) {
-    warnings.push_back("checkpoint '" + dir.string() + "' was written with OpenBLAS kernels '" +
-                       core_then + "', this machine uses '" + now.blas_core +
-                       "': the numbers will differ from an uninterrupted run in the last digits");
-  }
+  // what rounds differently from the checkpoint's machine: a warning, not an error
+  auto warn_if_changed = [&](const char* key, const std::string& before_records,
+                             const std::string& now_value, const std::string& what,
+                             const std::string& here, const std::string& hint = "") {
+    const std::string then = saved.value(key, before_records);
+    if (then == now_value) return;
+    warnings.push_back("checkpoint '" + dir.string() + "' was written with " + what + " '" + then +
+                       "', " + here + " '" + now_value + "'" + hint +
+                       ": the numbers will differ from an uninterrupted run in the last digits");
+  };
+  warn_if_changed("blas_core", "unknown", now.blas_core, "OpenBLAS kernels", "this machine uses");
   // checkpoints from before the oneDNN products ran every product on the BLAS
-  const std::string gemm_then = saved.value("gemm", std::string("blas"));
-  if (gemm_then != now.gemm) {
-    warnings.push_back("checkpoint '" + dir.string() + "' was written with products on '" +
-                       gemm_then + "', this program runs them on '" + now.gemm +
-                       "' (MANYWORLDS_GEMM): the numbers will differ from an uninterrupted run "
-                       "in the last digits");
-  }
+  warn_if_changed("gemm", "blas", now.gemm, "products on", "this program runs them on",
+                  " (MANYWORLDS_GEMM)");
 }
 
 void Trainer::Impl::LoadCheckpoint(const fs::path& dir) {
