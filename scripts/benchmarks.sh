@@ -52,6 +52,10 @@ B=build/manyworlds
     # The MT10 configs' batch: 32 per task.
     $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10
     $B bench agent --tasks 10 --disentangled-alpha --batch 320 --updates 10 --architecture multihead
+    # What the published MT10 and MT50 budgets cost here: a few minutes of training at the
+    # published batch, projected (about 6 minutes).
+    python3 bench/protocol_cost.py --protocol mt10 mt50 --rounds 1 --cli "$B" \
+      --json "${log%.log}_protocol_cost.json"
   fi
   # The peers, interleaved, medians over rounds and per-round ratios:
   # SAC update, PPO epoch and PPO training (CartPole, against Stable-Baselines3)
