@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/nn/tanh.h"
 
 namespace manyworlds::nn {
 namespace {
@@ -120,7 +121,7 @@ torch::Tensor MlpForward(const torch::Tensor& x, at::ArrayRef<torch::Tensor> par
       if (activation == Activation::kRelu) {
         h.relu_();
       } else {
-        h = torch::tanh(h);  // tanh's backward needs its output: not in place
+        h = Tanh(h);  // tanh's backward needs its output: not in place
       }
     }
   }

@@ -38,17 +38,28 @@ struct Gemm {
   void (*omp_set_threads)(int) = nullptr;
 };
 
+// The symbol from the global scope or, failing that, from `library` if the process has already
+// loaded it privately: Python loads libtorch and its libraries with RTLD_LOCAL, so this file
+// preloaded into a Python peer (LD_PRELOAD, docs/benchmarks.md) finds them only this way. Never
+// loads a library.
+void* Find(const char* symbol, const char* library, void* scope = RTLD_DEFAULT) {
+  if (void* found = dlsym(scope, symbol)) return found;
+  void* handle = dlopen(library, RTLD_NOW | RTLD_NOLOAD);
+  return handle != nullptr ? dlsym(handle, symbol) : nullptr;
+}
+
 const Gemm& Resolve() {
   static const Gemm gemm = [] {
     Gemm g;
-    g.blas = reinterpret_cast<FortranSgemm>(dlsym(RTLD_NEXT, "sgemm_"));
+    g.blas = reinterpret_cast<FortranSgemm>(Find("sgemm_", "libblas.so.3", RTLD_NEXT));
     const char* choice = std::getenv("MANYWORLDS_GEMM");
     if (choice == nullptr || std::strcmp(choice, "openblas") != 0) {
-      g.onednn = reinterpret_cast<DnnlSgemm>(dlsym(RTLD_DEFAULT, "dnnl_sgemm"));
-      g.blas_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-      g.omp_max_threads = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_max_threads"));
+      g.onednn = reinterpret_cast<DnnlSgemm>(Find("dnnl_sgemm", "libdnnl.so.2"));
+      g.blas_threads =
+          reinterpret_cast<int (*)()>(Find("openblas_get_num_threads", "libblas.so.3"));
+      g.omp_max_threads = reinterpret_cast<int (*)()>(Find("omp_get_max_threads", "libgomp.so.1"));
       g.omp_set_threads =
-          reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_num_threads"));
+          reinterpret_cast<void (*)(int)>(Find("omp_set_num_threads", "libgomp.so.1"));
       if (g.omp_max_threads == nullptr || g.omp_set_threads == nullptr) g.onednn = nullptr;
     }
     return g;
