@@ -11,6 +11,8 @@ The C++ kernel's error over every float was then measured against tanh in double
 (at most 1 ulp); tests/nn/tanh_test.cc repeats that on every 101st float.
 """
 
+import argparse
+
 import numpy as np
 
 
@@ -31,6 +33,9 @@ def minimax(f, fixed, basis, lo, hi, n=20000, iterations=80):
 
 
 def main():
+    argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                            formatter_class=argparse.RawDescriptionHelpFormatter,
+                            epilog=__doc__.split("\n\n", 1)[1]).parse_args()
     ulp = 2.0 ** -24
     error, r = minimax(np.tanh, lambda x: x,
                        lambda x: x[:, None] ** 3 * (x[:, None] ** 2) ** np.arange(5), 1e-4, 0.5625)
