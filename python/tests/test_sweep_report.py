@@ -527,3 +527,28 @@ def test_tensorboard_export_of_a_sweep_and_of_a_run_without_logs(tmp_path):
     assert len(list((tmp_path / "runs" / "a" / "seed_1" / "tensorboard").iterdir())) == 1
     with pytest.raises(ValueError, match="metrics.jsonl"):
         sweep_tensorboard.export_run(str(tmp_path / "runs" / "c" / "seed_1"))
+
+
+# ------------------------------------------------------------------------------ published results
+def test_the_published_mt10_report_comes_from_the_committed_runs(tmp_path):
+    """docs/results' MT10 two-core table: its point estimates and the scores behind it are what
+    the report computes from the runs kept in docs/results/mt10_two_cores/sweep."""
+    from conftest import REPO
+
+    results = REPO / "docs" / "results" / "mt10_two_cores"
+    fresh = sweep_report.write_report(str(results / "sweep"), out_dir=str(tmp_path), seed=0,
+                                      plots=False, **FAST)
+    published = json.loads((results / "report" / "report.json").read_text())
+    assert fresh["runs_finished"] == published["runs_finished"] == 10
+    for method in ("mt-sac", "mh-sac"):
+        for name in ("iqm", "mean", "median", "optimality_gap"):
+            ours = fresh["methods"][method]["aggregates"][name]["estimate"]
+            assert ours == pytest.approx(
+                published["methods"][method]["aggregates"][name]["estimate"], abs=1e-12), name
+    assert (tmp_path / "scores.csv").read_text() == (results / "report" / "scores.csv").read_text()
+    # the table in docs/results/README.md shows these estimates
+    table = (REPO / "docs" / "results" / "README.md").read_text()
+    for label, method in (("MT-SAC", "mt-sac"), ("Multi-head SAC", "mh-sac")):
+        iqm = published["methods"][method]["aggregates"]["iqm"]
+        row = next(line for line in table.splitlines() if line.startswith(f"| {label} |"))
+        assert f"{iqm['estimate']:.2f} [{iqm['ci_low']:.2f}, {iqm['ci_high']:.2f}]" in row, row
