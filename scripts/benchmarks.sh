@@ -6,7 +6,7 @@
 # scripts/main.sh makes one). The peer comparisons make their own virtual
 # environments (bench/peers/learner_peers.sh, env_throughput.sh: PyPI's torch,
 # Stable-Baselines3, Meta-World, EnvPool) and use Debian's python3-torch.
-# Takes about 12 minutes on two cores plus about 30 for the peers (more the
+# Takes about 18 minutes on two cores plus about 30 for the peers (more the
 # first time: the virtual environments); run it on an otherwise idle machine,
 # the figures are medians of repeats but the machine must be quiet.
 set -euo pipefail
