@@ -104,7 +104,7 @@ def _human(seconds):
 
 
 def run_protocol(cli, name, spec, args):
-    config = str(REPO / spec["config"]) if name in PROTOCOLS else os.path.abspath(spec["config"])
+    config = str(REPO / spec["config"])  # --config's path is absolute
     round_steps = args.round_steps
     experiment = _resolved_config(cli, config)["experiment"]
     eval_every, eval_episodes = experiment["eval_every"], experiment["eval_episodes"]
@@ -171,7 +171,7 @@ def main():
     if args.config:
         if not os.path.isfile(args.config):
             parser.error(f"--config {args.config}: no such file")
-        runs = [("config", {"config": args.config})]
+        runs = [("config", {"config": os.path.abspath(args.config)})]
     else:
         runs = [(name, PROTOCOLS[name]) for name in args.protocol]
     results = [run_protocol(cli, name, spec, args) for name, spec in runs]

@@ -45,41 +45,26 @@ def test_rounds_that_start_in_warm_up_are_not_update_rounds():
         protocol_cost.measure_rates([_row(500, 5.0, 0)], {"wall_s": 1.0}, 1, warmup_steps=500)
 
 
-CONFIG = """\
-env:
-  id: point-nav
-  num_tasks: 3
-  options: {horizon: 50}
-agent: {algo: sac, hidden_dim: 16, num_layers: 2, batch_size: 32}
-replay: {capacity: 5000}
-experiment:
-  steps_per_task: 20000
-  warmup_steps: 100
-  eval_every: 1000
-  eval_episodes: 4
-  num_threads: 1
-"""
-
-
 @pytest.mark.skipif(cli_path() is None, reason="the manyworlds program is not built")
 def test_a_config_measured_end_to_end(tmp_path):
-    config = tmp_path / "config.yaml"
-    config.write_text(CONFIG)
+    # the shipped three-goal MT-SAC config: 100-step episodes, 5,000 steps per task, warm-up 500,
+    # an evaluation of 10 episodes every 1,000 steps
+    config = REPO / "configs" / "point_nav3_mtsac.yaml"
     out = tmp_path / "cost.json"
-    done = subprocess.run([sys.executable, str(SCRIPT), "--config", str(config), "--round-steps", "50",
+    done = subprocess.run([sys.executable, str(SCRIPT), "--config", str(config), "--round-steps", "100",
                            "--rounds", "2", "--eval-episodes", "2", "--threads", "1",
                            "--cli", str(cli_path()), "--json", str(out)],
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr
-    assert "| CONFIG, 0.02M steps/task |" in done.stdout
+    assert "| CONFIG, 0.005M steps/task |" in done.stdout
     (result,) = json.loads(out.read_text())
     rates, parts = result["rates"], result["projection"]
     # One update per loop step: the loop step costs at least an update.
     assert 0 < rates["learner_share"] < 1
     assert rates["updates_per_s"] * rates["loop_step_s"] == pytest.approx(1.0, rel=1e-6)
-    assert parts["evaluations"] == 20 and result["eval_episodes"] == 4
+    assert parts["evaluations"] == 5 and result["eval_episodes"] == 10
     assert parts["total_s"] == pytest.approx(parts["warmup_s"] + parts["training_s"] + parts["evaluation_s"])
-    assert parts["training_s"] == pytest.approx((20000 - 100) * rates["loop_step_s"])
+    assert parts["training_s"] == pytest.approx((5000 - 500) * rates["loop_step_s"])
 
 
 def test_bad_arguments_are_one_line_errors(tmp_path):

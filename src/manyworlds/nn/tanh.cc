@@ -76,13 +76,11 @@ class TanhFunction : public torch::autograd::Function<TanhFunction> {
   static torch::autograd::tensor_list backward(torch::autograd::AutogradContext* ctx,
                                                torch::autograd::tensor_list grads) {
     const torch::Tensor y = ctx->get_saved_variables()[0];
-    const torch::Tensor grad = grads[0].contiguous();
     // Under create_graph (TRPO's Hessian-vector products, MAML's inner steps) the backward must
-    // itself be differentiable: libtorch's tanh_backward is.
-    if (torch::GradMode::is_enabled() || grad.scalar_type() != torch::kFloat32 ||
-        grad.sizes() != y.sizes()) {
-      return {at::tanh_backward(grad, y)};
-    }
+    // itself be differentiable: libtorch's tanh_backward is. Otherwise the gradient is float32
+    // and shaped like y, as autograd gives it for y.
+    if (torch::GradMode::is_enabled()) return {at::tanh_backward(grads[0], y)};
+    const torch::Tensor grad = grads[0].contiguous();
     torch::Tensor out = torch::empty_like(y);
     TanhBackwardKernel(grad.data_ptr<float>(), y.data_ptr<float>(), out.data_ptr<float>(),
                        y.numel());
