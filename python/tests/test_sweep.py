@@ -8,6 +8,7 @@ program comes from $MANYWORLDS_CLI or build/manyworlds. The Ray tests start loca
 import json
 import os
 import pathlib
+import re
 import signal
 import subprocess
 import sys
@@ -230,6 +231,19 @@ def test_every_preset_resolves_with_the_program(tmp_path):
             runner.resolved_config(cli_path(), run, tmp_path)
             methods += 1
     assert methods >= 15
+
+
+def test_the_docs_list_every_preset():
+    """docs/sweeps.md's preset table has a row for each shipped sweep file, and none for a file
+    that does not exist."""
+    from manyworlds.sweep import cli
+
+    shipped = {path.stem for path in cli.PRESETS.glob("*.yaml")}
+    text = (REPO / "docs" / "sweeps.md").read_text()
+    table = text[text.index("## Presets"):]
+    listed = set(re.findall(r"^\| `([a-z0-9_]+)` \|", table, flags=re.M))
+    assert listed == shipped, (f"missing from docs/sweeps.md: {sorted(shipped - listed)}; "
+                               f"listed but not shipped: {sorted(listed - shipped)}")
 
 
 # --- runs on Ray --------------------------------------------------------------------------------
