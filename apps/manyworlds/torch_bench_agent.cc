@@ -17,12 +17,14 @@
 #include "manyworlds/experiments/agent_bench.h"
 #include "manyworlds/experiments/algorithms.h"
 #include "manyworlds/experiments/trainer.h"
+#include "manyworlds/nn/device.h"
 
 namespace manyworlds::cli {
 namespace {
 
 struct BenchAgentArgs {
   std::string agent = "sac";
+  std::string device = "cpu";
   experiments::AgentBenchSizes sizes;
   bool json = false;
 };
@@ -36,6 +38,7 @@ std::string Join(const std::vector<std::string>& names) {
 void RunBenchAgent(const BenchAgentArgs& args) {
   const experiments::AlgorithmInfo* info = experiments::LookupAlgorithm(args.agent);
   if (info == nullptr) throw ConfigError(experiments::UnknownAlgorithm("--algo", args.agent));
+  nn::ResolveDevice(args.device, "--device");  // "cpu", or why not a GPU
   const experiments::AgentBenchResult result = info->bench(info->name, args.sizes);
   if (args.json) {
     PrintJson(result.json);
@@ -55,6 +58,10 @@ void AddBenchAgentSubcommand(CLI::App& bench, CommandContext&) {
       "learner conditions on the task index per --architecture");
   cmd->add_option("--algo,--agent", args->agent,
                   "algorithm to time: " + experiments::AlgorithmNames())
+      ->capture_default_str();
+  cmd->add_option("--device", args->device,
+                  std::string("where the learner runs: ") + nn::kDeviceValues +
+                      " (the learners run on the CPU in this version)")
       ->capture_default_str();
   cmd->add_option("--trial-length", args->sizes.trial_length,
                   "rl2, maml: steps per trial (maml: half before, half after adaptation)")

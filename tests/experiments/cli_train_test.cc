@@ -338,6 +338,11 @@ TEST(CliTrainTest, BadInputGivesOneErrorLine) {
       {"train tiny.yaml --print-config experiment.eval_episodes=0", 2, "eval_episodes"},
       {"train tiny.yaml --print-config agent.hiden_dim=3", 2, "hidden_dim"},
       {"train --resume runs/tiny --print-config", 2, "--print-config"},
+      // the learners run on the CPU: a GPU request says why not, before anything is made
+      {"train tiny.yaml agent.device=cuda", 2, "'agent.device' = 'cuda'"},
+      {"train tiny.yaml agent.device=gpu", 2, "allowed: auto, cpu, cuda, cuda:N"},
+      {"train tiny.yaml --print-config agent.device=cuda:x", 2, "agent.device"},
+      {"bench agent --device cuda:0 --updates 1 --repeats 1", 2, "'--device' = 'cuda:0'"},
   };
   for (const auto& c : cases) {
     const RunResult r = RunCli(c.args, dir);

@@ -98,17 +98,20 @@ class TypedAgentParams final : public AgentParams {
   C value;
 };
 
-// agent: the algorithm's name (a registry row, algorithms.h) and its config.
+// agent: the algorithm's name (a registry row, algorithms.h), the device its learner runs on
+// (`agent.device`, nn/device.h; the same key for every algorithm) and the algorithm's config.
 // Default-constructed it is the default algorithm with its defaults.
 class AgentConfig {
  public:
   AgentConfig();
   AgentConfig(std::string algo, std::unique_ptr<AgentParams> params)
       : algo_(std::move(algo)), params_(std::move(params)) {}
-  AgentConfig(const AgentConfig& other) : algo_(other.algo_), params_(other.params_->Clone()) {}
+  AgentConfig(const AgentConfig& other)
+      : algo_(other.algo_), device_(other.device_), params_(other.params_->Clone()) {}
   AgentConfig& operator=(const AgentConfig& other) {
     if (this != &other) {
       algo_ = other.algo_;
+      device_ = other.device_;
       params_ = other.params_->Clone();
     }
     return *this;
@@ -118,6 +121,10 @@ class AgentConfig {
 
   // The registry name of the algorithm ("sac", "ppo", ...).
   const std::string& algo() const { return algo_; }
+  // As written: auto, cpu, cuda or cuda:N (checked by ValidateAgentConfig, resolved when the
+  // learner is built).
+  const std::string& device() const { return device_; }
+  void set_device(std::string device) { device_ = std::move(device); }
   AgentParams& params() { return *params_; }
   const AgentParams& params() const { return *params_; }
 
@@ -134,6 +141,7 @@ class AgentConfig {
 
  private:
   std::string algo_;
+  std::string device_ = "auto";
   std::unique_ptr<AgentParams> params_;
 };
 

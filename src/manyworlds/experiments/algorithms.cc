@@ -19,6 +19,7 @@
 #include "manyworlds/core/registry.h"
 #include "manyworlds/experiments/algorithm.h"
 #include "manyworlds/experiments/loops/loops.h"
+#include "manyworlds/nn/device.h"
 
 namespace manyworlds::experiments {
 namespace {
@@ -170,6 +171,9 @@ AgentConfig ReadAgentConfig(const nlohmann::json& section) {
   std::string algo = kDefaultAlgorithm;
   r.Read("algo", algo);
   AgentConfig agent = DefaultAgentConfig(algo);
+  std::string device = agent.device();
+  r.Read("device", device);
+  agent.set_device(device);
   agent.params().Read(r);
   r.Finish();
   return agent;
@@ -178,10 +182,14 @@ AgentConfig ReadAgentConfig(const nlohmann::json& section) {
 nlohmann::json AgentConfigToJson(const AgentConfig& agent) {
   nlohmann::json j = agent.params().ToJson();
   j["algo"] = agent.algo();
+  j["device"] = agent.device();
   return j;
 }
 
-void ValidateAgentConfig(const AgentConfig& agent) { agent.params().Validate(); }
+void ValidateAgentConfig(const AgentConfig& agent) {
+  nn::ParseDevice(agent.device(), "agent.device");
+  agent.params().Validate();
+}
 
 std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup) {
   return FindAlgorithm(setup.config.agent.algo()).make(setup);
@@ -189,6 +197,7 @@ std::unique_ptr<Algorithm> MakeAlgorithm(const AlgorithmSetup& setup) {
 
 std::unique_ptr<Algorithm> BuildAlgorithm(const TrainConfig& config, const TaskSet& tasks,
                                           const EnvFacts& facts) {
+  nn::ResolveDevice(config.agent.device(), "agent.device");  // "cpu", or why not a GPU
   CheckAlgorithmEnvs(config.agent, facts, tasks);
   AlgorithmSetup setup{config,
                        facts,
