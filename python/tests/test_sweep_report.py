@@ -553,3 +553,62 @@ def test_the_published_mt10_report_comes_from_the_committed_runs(tmp_path):
         iqm = published["methods"][method]["aggregates"]["iqm"]
         row = next(line for line in table.splitlines() if line.startswith(f"| {label} |"))
         assert f"{iqm['estimate']:.2f} [{iqm['ci_low']:.2f}, {iqm['ci_high']:.2f}]" in row, row
+
+
+# --- archive: finished runs without checkpoints ---------------------------------------------------
+
+def test_an_archive_keeps_what_report_and_resume_read_and_nothing_else(tmp_path):
+    from manyworlds.sweep import archive, cli, runner
+
+    sweep = make_sweep(tmp_path / "sweep", {
+        "good": [dict(seed=i + 1, final=f, curve=curve_of(f)) for i, f in enumerate(GOOD)],
+        "bad": [dict(seed=1, final=BAD[0], curve=curve_of(BAD[0])),
+                dict(seed=2, final=None, curve=curve_of(BAD[1])[:1])]})  # still running
+    for run_dir in (sweep / "runs").glob("*/seed_*"):
+        (run_dir / "config.yaml").write_text("agent: {algo: sac}\n")
+        (run_dir / "checkpoints" / "step_000000000300").mkdir(parents=True)
+        (run_dir / "checkpoints" / "step_000000000300" / "replay.bin").write_bytes(b"x" * 1000)
+        (run_dir / "tasks.json").write_text("{}")
+        (run_dir / "eval.csv").write_text("step\n")
+    (sweep / "logs" / "good").mkdir(parents=True)
+    (sweep / "logs" / "good" / "seed_1.log").write_text("== start\n")
+
+    out = tmp_path / "kept"
+    assert cli.main(["archive", str(sweep), str(out)]) == 0
+    kept = sorted(str(p.relative_to(out)) for p in out.rglob("*") if p.is_file())
+    assert "sweep.json" in kept and "logs/good/seed_1.log" in kept
+    assert "runs/good/seed_1/summary.json" in kept and "runs/good/seed_1/config.yaml" in kept
+    assert not [p for p in kept if "checkpoints" in p or p.endswith(("tasks.json", ".csv"))], kept
+    assert not any(p.startswith("runs/bad/seed_2/") for p in kept)  # not finished: left out
+    assert runner.run_state(out / "runs" / "good" / "seed_3") == "finished"
+
+    # the archive scores as the sweep does
+    runs = json.loads((sweep / "sweep.json").read_text())["runs"]
+    ours = sweep_report.scores_from_runs(str(out), runs)
+    theirs = sweep_report.scores_from_runs(str(sweep), runs)
+    assert list(ours) == ["good", "bad"]
+    for method in ours:
+        assert ours[method].run_ids == theirs[method].run_ids
+        np.testing.assert_array_equal(ours[method].scores, theirs[method].scores)
+    assert len(ours["good"].run_ids) == 4 and len(ours["bad"].run_ids) == 1
+
+    # archiving again as the sweep goes on adds the run that finished since
+    (sweep / "runs" / "bad" / "seed_2" / "summary.json").write_text(
+        (sweep / "runs" / "bad" / "seed_1" / "summary.json").read_text())
+    result = archive.archive_sweep(sweep, out)
+    assert result["unfinished"] == [] and len(result["archived"]) == 6
+    assert (out / "runs" / "bad" / "seed_2" / "summary.json").is_file()
+
+
+def test_an_archive_needs_a_sweep_and_a_place_outside_it(tmp_path, capsys):
+    from manyworlds.sweep import cli
+
+    assert cli.main(["archive", str(tmp_path), str(tmp_path / "out")]) == 2
+    assert "not a sweep directory" in capsys.readouterr().err
+    sweep = make_sweep(tmp_path / "sweep", {"good": [dict(seed=1, final=GOOD[0])]})
+    assert cli.main(["archive", str(sweep), str(sweep / "kept")]) == 2
+    assert "must lie outside the sweep" in capsys.readouterr().err
+    (sweep / "sweep.json").write_text("{not json")
+    assert cli.main(["archive", str(sweep), str(tmp_path / "out")]) == 2
+    assert "unreadable or damaged" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()

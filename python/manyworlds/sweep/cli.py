@@ -4,6 +4,7 @@
     manyworlds-sweep report SWEEP_DIR [--metric success|return] [--reps N]
     manyworlds-sweep tune SEARCH.yaml [--out DIR] [--resume]
     manyworlds-sweep tensorboard DIR ...
+    manyworlds-sweep archive SWEEP_DIR OUT_DIR
     manyworlds-sweep presets
 
 Exit codes: 0 done; 1 a run failed (the others still ran); 2 bad input (one line saying what
@@ -103,6 +104,16 @@ def _cmd_tensorboard(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_archive(args: argparse.Namespace) -> int:
+    from manyworlds.sweep import archive
+
+    result = archive.archive_sweep(args.sweep_dir, args.out_dir)
+    waiting = f"; {len(result['unfinished'])} not finished, left out" if result["unfinished"] else ""
+    print(f"{args.out_dir}: {len(result['archived'])} finished runs without checkpoints{waiting}; "
+          f"report: manyworlds-sweep report {args.out_dir}")
+    return 0
+
+
 def _cmd_presets(args: argparse.Namespace) -> int:
     for path in sorted(PRESETS.glob("*.yaml")):
         first = path.read_text().splitlines()[0].lstrip("# ").strip()
@@ -174,6 +185,16 @@ def parser() -> argparse.ArgumentParser:
     tb = commands.add_parser("tensorboard", help="TensorBoard event files of runs or sweeps")
     tb.add_argument("dirs", nargs="+", help="run directories or sweep directories")
     tb.set_defaults(handler=_cmd_tensorboard)
+
+    arc = commands.add_parser(
+        "archive", help="a sweep's finished runs without checkpoints, to keep or share",
+        description="Copies SWEEP_DIR's sweep.json and, of every finished run, its config, "
+                    "summary, .jsonl logs and run log into OUT_DIR: what `report` scores and "
+                    "`run --resume` leaves finished, without checkpoints and task states. "
+                    "Run again as the sweep goes on, it adds the newly finished runs.")
+    arc.add_argument("sweep_dir")
+    arc.add_argument("out_dir")
+    arc.set_defaults(handler=_cmd_archive)
 
     pre = commands.add_parser("presets", help="list the shipped sweep and search files")
     pre.set_defaults(handler=_cmd_presets)
