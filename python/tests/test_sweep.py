@@ -125,11 +125,16 @@ def test_runs_are_submitted_seed_major_so_an_early_stop_leaves_every_method_its_
 def test_the_eta_counts_the_runs_going_and_the_slots(tmp_path):
     # two slots, one run of 62 minutes finished, its twin nearly done, eight waiting: four more
     # waves of 62 minutes (the rate of finished runs alone said 9h18m)
-    eta = runner.estimate_eta([3720.0], [3700.0], 8, 2)
+    eta = runner.estimate_eta({"a": [3720.0]}, [("a", 3700.0)], ["a"] * 8, 2)
     assert eta == pytest.approx((20 + 8 * 3720) / 2)
-    assert runner.estimate_eta([], [10.0], 3, 2) is None  # nothing finished: unknown
-    assert runner.estimate_eta([10.0], [2.0], 0, 4) == pytest.approx(8.0)  # the last run's rest
-    assert runner.estimate_eta([10.0], [30.0], 0, 1) == 0.0  # overdue: no negative time
+    assert runner.estimate_eta({}, [("a", 10.0)], ["a"] * 3, 2) is None  # nothing finished
+    assert runner.estimate_eta({"a": [10.0]}, [("a", 2.0)], [], 4) == pytest.approx(8.0)
+    assert runner.estimate_eta({"a": [10.0]}, [("a", 30.0)], [], 1) == 0.0  # overdue: not < 0
+    # methods of different cost: each run takes its own method's mean, a method with no finished
+    # run the mean of all (MT10: MT-SAC's 60 minutes against MOORE's 150)
+    finished = {"mt-sac": [3600.0, 3600.0], "moore": [9000.0]}
+    eta = runner.estimate_eta(finished, [("moore", 1000.0)], ["mt-sac", "moore", "paco"], 2)
+    assert eta == pytest.approx((8000 + 3600 + 9000 + 5400) / 2)
     # the times come from attempts.jsonl: this driver's launches, failed attempts not counted
     lines = [{"run": "a/seed_1", "event": "start", "time": 50.0},    # an earlier driver's
              {"run": "a/seed_1", "event": "start", "time": 100.0},

@@ -31,7 +31,7 @@ import signal
 import subprocess
 import sys
 import time
-from typing import Any, Callable, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 from manyworlds.sweep import spec as spec_module
 
@@ -294,16 +294,24 @@ def read_jsonl(path: str | pathlib.Path) -> list[dict[str, Any]]:
     return rows
 
 
-def estimate_eta(finished_s: Sequence[float], running_s: Sequence[float], waiting: int,
-                 slots: int) -> float | None:
-    """Seconds until the sweep ends: the runs still going (`running_s`: how long each has run)
-    and `waiting` runs not started yet, on `slots` runs at a time, each taking the mean of the
-    runs finished so far (`finished_s`, their durations). None before any run has finished."""
-    if not finished_s:
+def estimate_eta(finished_s: Mapping[str, Sequence[float]], running: Sequence[tuple[str, float]],
+                 waiting: Sequence[str], slots: int) -> float | None:
+    """Seconds until the sweep ends: the runs still going (`running`: (method, how long it has
+    run)) and the runs not started yet (`waiting`: their methods), on `slots` runs at a time.
+    A run takes the mean duration of its method's finished runs (`finished_s`: method ->
+    durations), or of all finished runs while its method has none: the methods of one sweep can
+    differ several times in cost. None before any run has finished."""
+    everything = [d for durations in finished_s.values() for d in durations]
+    if not everything:
         return None
-    duration = sum(finished_s) / len(finished_s)
-    left = [max(duration - elapsed, 0.0) for elapsed in running_s]
-    work = sum(left) + waiting * duration
+    overall = sum(everything) / len(everything)
+
+    def duration(method: str) -> float:
+        own = finished_s.get(method)
+        return sum(own) / len(own) if own else overall
+
+    left = [max(duration(method) - elapsed, 0.0) for method, elapsed in running]
+    work = sum(left) + sum(duration(method) for method in waiting)
     return max(work / max(slots, 1), max(left, default=0.0))
 
 
@@ -398,6 +406,7 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
         per_run = sum(sweep.resources.num_cpus or threads[r.method] for r in pending) / len(pending)
         slots = max(1, int(ray.cluster_resources().get("CPU", 1) // max(per_run, 1e-9)))
         remaining = list(futures)
+        method_of = {r.id: r.method for r in sweep.runs}
         while remaining:
             ready, remaining = ray.wait(remaining, num_returns=1)
             run = futures[ready[0]]
@@ -411,8 +420,12 @@ def run_sweep(sweep: spec_module.Sweep, sweep_dir: str | pathlib.Path, *, resume
             elapsed = time.monotonic() - start
             durations, running = _run_times(sweep_dir, since)
             now = time.time()
-            eta = estimate_eta(list(durations.values()), [now - t for t in running.values()],
-                               max(len(remaining) - len(running), 0), slots)
+            by_method: dict[str, list[float]] = {}
+            for run_id, seconds in durations.items():
+                by_method.setdefault(method_of.get(run_id, ""), []).append(seconds)
+            eta = estimate_eta(
+                by_method, [(method_of.get(r, ""), now - t) for r, t in running.items()],
+                [futures[f].method for f in remaining if futures[f].id not in running], slots)
             say(f"sweep {sweep.name}: {done}/{len(futures)} runs done "
                 f"({len(result['failed'])} failed) in {_format_duration(elapsed)}, "
                 f"{60 * done / elapsed if elapsed > 0 else 0.0:.2f} runs/min, "
