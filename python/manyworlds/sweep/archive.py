@@ -13,28 +13,22 @@ directories are copied along.
 from __future__ import annotations
 
 import json
-import os
 import pathlib
-import shutil
 from typing import Any
 
-from manyworlds.sweep.runner import MANIFEST, SweepError, run_state
+from manyworlds.sweep.runner import MANIFEST, SweepError, run_state, write_atomically
 
 RUN_FILES = ("config.yaml", "summary.json", "eval.jsonl", "metrics.jsonl", "meta_test.jsonl",
              "meta_train.jsonl")
 
 
 def _copy_atomically(source: pathlib.Path, target: pathlib.Path) -> None:
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = target.with_name(f".{target.name}.tmp.{os.getpid()}")
     try:
-        shutil.copyfile(source, tmp)
-        with open(tmp, "rb") as f:
-            os.fsync(f.fileno())
-        os.replace(tmp, target)
+        data = source.read_bytes()  # a run's logs: kilobytes
+        target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        tmp.unlink(missing_ok=True)
         raise SweepError(f"cannot copy {source} to {target}: {error.strerror}") from None
+    write_atomically(target, data)
 
 
 def archive_sweep(sweep_dir: str | pathlib.Path, out_dir: str | pathlib.Path) -> dict[str, Any]:
