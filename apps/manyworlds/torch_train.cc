@@ -305,7 +305,8 @@ fs::path FindCheckpoint(const fs::path& run_dir, const std::string& which) {
 
 // Runs `use` on `checkpoint`, which FindCheckpoint(run_dir, which) chose. A run that is
 // training prunes its old checkpoints (experiment.keep_checkpoints) as it writes new ones, so
-// the latest may vanish between its choice and its reading: then the newest is chosen again.
+// the latest may vanish (or be half removed) between its choice and its reading: when a newer
+// one has appeared since, that one is chosen.
 template <class F>
 auto UsingCheckpoint(const fs::path& run_dir, const std::string& which, fs::path& checkpoint,
                      F&& use) {
@@ -314,7 +315,9 @@ auto UsingCheckpoint(const fs::path& run_dir, const std::string& which, fs::path
     try {
       return use(checkpoint);
     } catch (const std::exception&) {
-      if (which != "latest" || fs::exists(checkpoint) || attempt == kAttempts) throw;
+      const std::vector<fs::path> now = experiments::ListCheckpoints(run_dir);
+      const bool newer = !now.empty() && now.back() != checkpoint;
+      if (which != "latest" || !newer || attempt == kAttempts) throw;
       checkpoint = FindCheckpoint(run_dir, which);
     }
   }

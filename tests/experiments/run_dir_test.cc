@@ -9,6 +9,8 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <atomic>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/run/checkpoint_integrity.h"
@@ -100,6 +102,31 @@ TEST(RunDirTest, StaleTemporariesAreRemoved) {
   EXPECT_FALSE(fs::exists(partial));
   EXPECT_FALSE(fs::exists(run / ".metrics.jsonl.tmp.abc123"));
   EXPECT_EQ(ListCheckpoints(run).size(), 1u);
+}
+
+// A reader choosing the latest checkpoint of a run that is training (keep_checkpoints 1: each
+// write prunes the one before) never fails: a checkpoint pruned while it was being checked is
+// chosen again (CI saw `eval` fail this way under load).
+TEST(RunDirTest, ChoosingWhileATrainerWritesAndPrunesAlwaysFindsOne) {
+  const fs::path run = Dir("choose_while_pruned");
+  Write(run, 1, 1, std::string(4096, 'x'));
+  std::atomic<bool> stop{false};
+  std::thread trainer([&] {
+    for (int64_t step = 2; !stop; ++step) Write(run, step, 1, std::string(4096, 'x'));
+  });
+  int failures = 0;
+  std::string first_failure;
+  for (int i = 0; i < 3000; ++i) {
+    try {
+      const ChosenCheckpoint chosen = ChooseCheckpoint(run);
+      EXPECT_TRUE(chosen.warnings.empty()) << chosen.warnings.front();
+    } catch (const std::exception& e) {
+      if (failures++ == 0) first_failure = e.what();
+    }
+  }
+  stop = true;
+  trainer.join();
+  EXPECT_EQ(failures, 0) << "first: " << first_failure;
 }
 
 }  // namespace

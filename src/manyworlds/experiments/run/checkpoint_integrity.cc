@@ -254,15 +254,10 @@ std::vector<fs::path> ListCheckpoints(const fs::path& run_dir) {
   return found;
 }
 
-ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
-  const fs::path dir = run_dir / kCheckpointsDir;
-  if (fs::exists(dir) && !fs::is_directory(dir)) {
-    throw ConfigError("'" + dir.string() + "' is not a directory, so run '" + run_dir.string() +
-                      "' has no checkpoint");
-  }
-  std::vector<fs::path> found = ListCheckpoints(run_dir);
-  if (found.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
-  std::sort(found.rbegin(), found.rend());
+namespace {
+
+// The newest intact checkpoint among `found` (newest first).
+ChosenCheckpoint ChooseAmong(const std::vector<fs::path>& found, const fs::path& run_dir) {
   ChosenCheckpoint chosen;
   for (const fs::path& candidate : found) {
     if (const auto problem = CheckpointProblem(candidate)) {
@@ -277,6 +272,31 @@ ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
   std::string all;
   for (const std::string& w : chosen.warnings) all += (all.empty() ? "" : "; ") + w;
   throw Error("run '" + run_dir.string() + "' has no intact checkpoint: " + all);
+}
+
+}  // namespace
+
+ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
+  const fs::path dir = run_dir / kCheckpointsDir;
+  if (fs::exists(dir) && !fs::is_directory(dir)) {
+    throw ConfigError("'" + dir.string() + "' is not a directory, so run '" + run_dir.string() +
+                      "' has no checkpoint");
+  }
+  // A run that is training writes a checkpoint and then prunes the older ones: those listed may
+  // vanish while they are checked. Then the list has changed, and the choice is made again.
+  constexpr int kAttempts = 10;
+  for (int attempt = 1;; ++attempt) {
+    std::vector<fs::path> found = ListCheckpoints(run_dir);
+    if (found.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
+    std::sort(found.rbegin(), found.rend());
+    try {
+      return ChooseAmong(found, run_dir);
+    } catch (const std::exception&) {
+      std::vector<fs::path> now = ListCheckpoints(run_dir);
+      std::sort(now.rbegin(), now.rend());
+      if (attempt == kAttempts || now == found) throw;
+    }
+  }
 }
 
 void VerifyCheckpoint(const fs::path& checkpoint_dir, const fs::path& run_dir) {
