@@ -49,7 +49,8 @@ cpp_status=0
 rm -f "$build_dir/Testing/Temporary/LastTestsFailed.log" build-asan/Testing/Temporary/LastTestsFailed.log
 # CheckEnvPassesOnEveryRegisteredEnv (every env through the env checker, ~70 s) runs in the
 # sanitizer build below, where it checks more; it is not run twice
-ctest --test-dir "$build_dir" --output-on-failure -j2 \
+case "$build_dir" in /*) junit=$build_dir/ctest-junit.xml ;; *) junit=$(pwd)/$build_dir/ctest-junit.xml ;; esac
+ctest --test-dir "$build_dir" --output-on-failure -j2 --output-junit "$junit" \
   -E '^CliTest\.CheckEnvPassesOnEveryRegisteredEnv$' || cpp_status=$?
 stage_done "C++ tests (ctest)"
 case "$build_dir" in /*) cli=$build_dir/manyworlds ;; *) cli=$(pwd)/$build_dir/manyworlds ;; esac
@@ -67,6 +68,8 @@ stage_done "sanitizer build and tests"
 echo "test.sh: wall time per stage"
 printf '  %s\n' "${stage_times[@]}"
 printf '  %-34s %5d s\n' "total" "$SECONDS"
+# the suite's budget is spent by its largest tests: CI's log ends with them
+python3 scripts/slowest_tests.py "$junit" 15 || true
 # CI shows the end of the log: name the failed tests here, not only thousands of lines above
 for dir in "$build_dir" build-asan; do
   failed_list=$dir/Testing/Temporary/LastTestsFailed.log

@@ -3,7 +3,8 @@
 // fixed table of hostile override values, on the algorithm's point-nav config
 // (configs/point_nav_<algo>.yaml). Stage 1, in this process: `TrainConfig::Load` with the
 // override and `Validate` either accept the value or refuse it with a one-line ConfigError.
-// Stage 2, each accepted case in a child process (tests/support/child_cases.h): the run is
+// Stage 2, each accepted case in a child process (tests/support/child_cases.h; cases whose
+// loaded configs are equal, once): the run is
 // created and trains one round, then stops as on SIGTERM; it must end with no error or a
 // one-line one, within its time and memory, never by a signal.
 #include <unistd.h>
@@ -108,19 +109,26 @@ std::string Shown(const std::string& value) {
                            : value;
 }
 
-// Stage 1: "" accepted, "R" refused properly, otherwise what was wrong.
-std::string LoadCase(const Case& c) {
+struct Loaded {
+  enum { kAccepted, kRefused, kFailed } verdict;
+  std::string detail;  // accepted: the loaded config as JSON; failed: what was wrong
+};
+
+// Stage 1: the case's config loaded and validated, or refused with one line.
+Loaded LoadCase(const Case& c) {
   std::vector<std::string> overrides = TinyOverrides(*c.info);
   overrides.push_back(c.key + "=" + c.value);
   try {
-    TrainConfig::Load(c.config, overrides).Validate();
+    const TrainConfig config = TrainConfig::Load(c.config, overrides);
+    config.Validate();
+    return {Loaded::kAccepted, config.ToJson().dump()};
   } catch (const ConfigError& e) {
     const std::string problem = test_support::ProblemWithMessage(e.what());
-    return problem.empty() ? "R" : problem;
+    if (problem.empty()) return {Loaded::kRefused, ""};
+    return {Loaded::kFailed, problem};
   } catch (const std::exception& e) {
-    return std::string("not a ConfigError: ") + e.what();
+    return {Loaded::kFailed, std::string("not a ConfigError: ") + e.what()};
   }
-  return "";
 }
 
 // Stage 2, in the child: "A" trained a round, "E<message>" refused or failed with one line,
@@ -181,26 +189,34 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
       failures += "\n  " + c.info->name + " " + c.key + "=" + Shown(c.value) + ": " + why;
     }
   };
+  // Accepted cases whose loaded configs are equal (".nan" and "nan"; a value the config already
+  // had) train identically: one of them trains, and its verdict stands for all.
+  std::map<std::string, size_t> first_with_config;  // config JSON -> index into `distinct`
+  std::vector<size_t> distinct;                     // the cases that train
+  std::vector<size_t> trained_as;                   // per accepted case: index into `distinct`
   for (size_t i = 0; i < cases.size(); ++i) {
-    const std::string verdict = LoadCase(cases[i]);
-    if (verdict.empty()) {
+    const Loaded loaded = LoadCase(cases[i]);
+    if (loaded.verdict == Loaded::kAccepted) {
       accepted.push_back(i);
-    } else if (verdict == "R") {
+      const auto [it, is_new] = first_with_config.try_emplace(loaded.detail, distinct.size());
+      if (is_new) distinct.push_back(i);
+      trained_as.push_back(it->second);
+    } else if (loaded.verdict == Loaded::kRefused) {
       ++refused;
     } else {
-      fail(cases[i], verdict);
+      fail(cases[i], loaded.detail);
     }
   }
   const fs::path scratch = test_dirs::Scratch("config_probe", "runs");
-  const std::vector<std::string> verdicts = test_support::RunInChildren(
-      accepted.size(),
+  const std::vector<std::string> distinct_verdicts = test_support::RunInChildren(
+      distinct.size(),
       [&](size_t k) {
-        return TrainCase(cases[accepted[k]], scratch / ("case_" + std::to_string(k)));
+        return TrainCase(cases[distinct[k]], scratch / ("case_" + std::to_string(k)));
       },
       {.seconds = 120, .address_space_gib = 8});
   size_t trained = 0, errors = 0;
   for (size_t k = 0; k < accepted.size(); ++k) {
-    const std::string& verdict = verdicts[k];
+    const std::string& verdict = distinct_verdicts[trained_as[k]];
     if (verdict == "A") {
       ++trained;
     } else if (verdict[0] == 'E') {
@@ -218,10 +234,11 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("config probe: %zu cases (%zu algorithms, %zu hostile values per key) in %.1f s: "
-              "%zu refused by the config with one line; %zu accepted, of which %zu trained a "
-              "round and %zu stopped with a one-line error; %zu failed\n",
+              "%zu refused by the config with one line; %zu accepted (%zu distinct configs "
+              "trained), of which %zu trained a round and %zu stopped with a one-line error; %zu "
+              "failed\n",
               cases.size(), Algorithms().size(), HostileValues().size(), seconds, refused,
-              accepted.size(), trained, errors, failed);
+              accepted.size(), distinct.size(), trained, errors, failed);
   RecordProperty("cases", static_cast<int>(cases.size()));
   EXPECT_EQ(failed, 0u) << failed << " cases failed (the first 60):" << failures;
   EXPECT_GT(cases.size(), 2000u);
