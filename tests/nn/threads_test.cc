@@ -40,6 +40,7 @@ TEST(ThreadsTest, BlasContentionAdviceOnlyForSeveralThreadsOnABusyMachine) {
   const std::string advice = BlasContentionAdvice(1.8, 2);
   EXPECT_NE(advice.find("load average 1.80"), std::string::npos) << advice;
   EXPECT_NE(advice.find("OPENBLAS_NUM_THREADS=1"), std::string::npos) << advice;
+  EXPECT_NE(advice.find("OMP_WAIT_POLICY=passive"), std::string::npos) << advice;
   EXPECT_EQ(BlasContentionAdvice(1.8, 1), "");
   EXPECT_EQ(BlasContentionAdvice(0.2, 2), "");
   EXPECT_EQ(BlasContentionAdvice(-1.0, 2), "");  // unreadable load average

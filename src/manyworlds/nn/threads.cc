@@ -76,10 +76,10 @@ std::string BlasContentionAdvice(double load_average, int blas_threads) {
   char load[32];
   std::snprintf(load, sizeof(load), "%.2f", load_average);
   return "other processes keep the cores busy (load average " + std::string(load) +
-         ") and OpenBLAS runs " + std::to_string(blas_threads) +
-         " threads: beside other work its updates run several times slower. Start runs that "
-         "share the machine with OPENBLAS_NUM_THREADS=1 (docs/benchmarks.md, \"BLAS threads on a "
-         "shared machine\")";
+         ") and the products run " + std::to_string(blas_threads) +
+         " threads: beside other work the updates run up to 28x slower. Start runs that share "
+         "the machine with OPENBLAS_NUM_THREADS=1, or keep the threads with "
+         "OMP_WAIT_POLICY=passive (docs/benchmarks.md, \"BLAS threads on a shared machine\")";
 }
 
 double OneMinuteLoadAverage() {
