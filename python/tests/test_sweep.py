@@ -282,6 +282,12 @@ def test_a_sweep_on_ray_gives_each_run_the_numbers_of_the_run_alone(tmp_path, lo
     assert len(set(finals.values())) == 6
     starts = [a["run"] for a in runner.attempts(out) if a["event"] == "start"]
     assert sorted(starts) == sorted(r.id for r in sweep.runs)
+    # a one-CPU run computes its products on one thread (Ray's OMP_NUM_THREADS=1, which OpenBLAS
+    # and so the products follow): two product threads per run beside the others spin and run
+    # many times slower (docs/benchmarks.md, "BLAS threads on a shared machine")
+    for run in sweep.runs:
+        state = sorted((out / run.run_dir / "checkpoints").glob("step_*/state.json"))[-1]
+        assert json.loads(state.read_text())["threads"]["blas_threads"] == 1, run.id
     # TensorBoard event files beside each run
     assert list((out / sweep.runs[0].run_dir / "tensorboard").glob("events.out.tfevents.*"))
 
