@@ -233,12 +233,13 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
   fs::remove_all(scratch);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("config probe: %zu cases (%zu algorithms, %zu hostile values per key) in %.1f s: "
-              "%zu refused by the config with one line; %zu accepted (%zu distinct configs "
-              "trained), of which %zu trained a round and %zu stopped with a one-line error; %zu "
-              "failed\n",
-              cases.size(), Algorithms().size(), HostileValues().size(), seconds, refused,
-              accepted.size(), distinct.size(), trained, errors, failed);
+  std::printf(
+      "config probe: %zu cases (%zu algorithms, %zu hostile values per key) in %.1f s: "
+      "%zu refused by the config with one line; %zu accepted (%zu distinct configs "
+      "trained), of which %zu trained a round and %zu stopped with a one-line error; %zu "
+      "failed\n",
+      cases.size(), Algorithms().size(), HostileValues().size(), seconds, refused, accepted.size(),
+      distinct.size(), trained, errors, failed);
   RecordProperty("cases", static_cast<int>(cases.size()));
   EXPECT_EQ(failed, 0u) << failed << " cases failed (the first 60):" << failures;
   EXPECT_GT(cases.size(), 2000u);

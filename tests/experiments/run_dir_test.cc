@@ -5,12 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
-#include <atomic>
 
 #include "manyworlds/core/error.h"
 #include "manyworlds/experiments/run/checkpoint_integrity.h"
