@@ -315,9 +315,9 @@ auto UsingCheckpoint(const fs::path& run_dir, const std::string& which, fs::path
     try {
       return use(checkpoint);
     } catch (const std::exception&) {
+      if (which != "latest" || attempt == kAttempts) throw;
       const std::vector<fs::path> now = experiments::ListCheckpoints(run_dir);
-      const bool newer = !now.empty() && now.back() != checkpoint;
-      if (which != "latest" || !newer || attempt == kAttempts) throw;
+      if (now.empty() || now.back() == checkpoint) throw;  // nothing newer to choose
       checkpoint = FindCheckpoint(run_dir, which);
     }
   }

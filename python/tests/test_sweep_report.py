@@ -595,9 +595,12 @@ def test_an_archive_keeps_what_report_and_resume_read_and_nothing_else(tmp_path)
     # archiving again as the sweep goes on adds the run that finished since
     (sweep / "runs" / "bad" / "seed_2" / "summary.json").write_text(
         (sweep / "runs" / "bad" / "seed_1" / "summary.json").read_text())
+    before = (out / "runs" / "good" / "seed_1" / "summary.json").stat().st_ino
     result = archive.archive_sweep(sweep, out)
     assert result["unfinished"] == [] and len(result["archived"]) == 6
     assert (out / "runs" / "bad" / "seed_2" / "summary.json").is_file()
+    # what was archived before and has not changed is not written again
+    assert (out / "runs" / "good" / "seed_1" / "summary.json").stat().st_ino == before
 
 
 def test_an_archive_needs_a_sweep_and_a_place_outside_it(tmp_path, capsys):

@@ -25,6 +25,8 @@ RUN_FILES = ("config.yaml", "summary.json", "eval.jsonl", "metrics.jsonl", "meta
 def _copy_atomically(source: pathlib.Path, target: pathlib.Path) -> None:
     try:
         data = source.read_bytes()  # a run's logs: kilobytes
+        if target.is_file() and target.read_bytes() == data:
+            return  # archived before: archiving again as the sweep goes on rewrites nothing
         target.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
         raise SweepError(f"cannot copy {source} to {target}: {error.strerror}") from None
@@ -35,8 +37,8 @@ def archive_sweep(sweep_dir: str | pathlib.Path, out_dir: str | pathlib.Path) ->
     """Copies SWEEP_DIR's manifest and finished runs (RUN_FILES, logs) into OUT_DIR.
 
     Returns {"archived": [run ids], "unfinished": [run ids]}. Files already in OUT_DIR are
-    replaced, others left, so archiving a sweep again as it goes on adds its newly finished
-    runs."""
+    replaced where they differ, others left, so archiving a sweep again as it goes on adds its
+    newly finished runs."""
     sweep_dir, out_dir = pathlib.Path(sweep_dir), pathlib.Path(out_dir)
     manifest_path = sweep_dir / MANIFEST
     try:

@@ -256,10 +256,11 @@ std::vector<fs::path> ListCheckpoints(const fs::path& run_dir) {
 
 namespace {
 
-// The newest intact checkpoint among `found` (newest first).
-ChosenCheckpoint ChooseAmong(const std::vector<fs::path>& found, const fs::path& run_dir) {
+// The newest intact checkpoint among `listed` (ListCheckpoints' order: oldest first).
+ChosenCheckpoint ChooseAmong(const std::vector<fs::path>& listed, const fs::path& run_dir) {
   ChosenCheckpoint chosen;
-  for (const fs::path& candidate : found) {
+  for (auto it = listed.rbegin(); it != listed.rend(); ++it) {
+    const fs::path& candidate = *it;
     if (const auto problem = CheckpointProblem(candidate)) {
       chosen.warnings.push_back("checkpoint '" + candidate.string() + "' is damaged (" + *problem +
                                 "); skipped");
@@ -286,15 +287,12 @@ ChosenCheckpoint ChooseCheckpoint(const fs::path& run_dir) {
   // vanish while they are checked. Then the list has changed, and the choice is made again.
   constexpr int kAttempts = 10;
   for (int attempt = 1;; ++attempt) {
-    std::vector<fs::path> found = ListCheckpoints(run_dir);
-    if (found.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
-    std::sort(found.rbegin(), found.rend());
+    const std::vector<fs::path> listed = ListCheckpoints(run_dir);
+    if (listed.empty()) throw ConfigError("run '" + run_dir.string() + "' has no checkpoint yet");
     try {
-      return ChooseAmong(found, run_dir);
+      return ChooseAmong(listed, run_dir);
     } catch (const std::exception&) {
-      std::vector<fs::path> now = ListCheckpoints(run_dir);
-      std::sort(now.rbegin(), now.rend());
-      if (attempt == kAttempts || now == found) throw;
+      if (attempt == kAttempts || ListCheckpoints(run_dir) == listed) throw;
     }
   }
 }
