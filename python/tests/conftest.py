@@ -8,6 +8,14 @@ import pytest
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 
+# pytest-xdist runs a worker per core: that is the suite's one layer of parallelism. The products
+# of every `manyworlds` program a test starts, and of torch, take one thread each (as ctest gives
+# each C++ test): two product threads per process beside the other worker spin at every barrier
+# and ran the training tests several times slower (docs/benchmarks.md, "BLAS threads on a shared
+# machine"). setdefault: a caller's own setting stands.
+for _variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+    os.environ.setdefault(_variable, "1")
+
 
 def cli_path():
     """The `manyworlds` program: $MANYWORLDS_CLI, else build/manyworlds, else None."""

@@ -67,12 +67,13 @@ def write(path, text):
 
 
 def standalone(tmp_path, config, seed, overrides, name):
-    """The same run started alone with `manyworlds train`; its summary.json."""
+    """The same run started alone with `manyworlds train`, on one product thread as a sweep's run
+    is; its summary.json."""
     run_dir = tmp_path / "alone" / name
     args = [f"{k}={spec.format_value(v)}" for k, v in overrides.items()]
     done = subprocess.run([cli_path(), "train", str(config), *args, f"experiment.seed={seed}",
                            f"experiment.run_dir={run_dir}"], capture_output=True, text=True,
-                          timeout=300)
+                          timeout=300, env=dict(os.environ, OPENBLAS_NUM_THREADS="1"))
     assert done.returncode == 0, done.stderr
     return json.loads((run_dir / "summary.json").read_text())
 
@@ -254,8 +255,12 @@ def test_the_docs_list_every_preset():
 # --- runs on Ray --------------------------------------------------------------------------------
 
 @pytest.fixture
-def local_ray():
+def local_ray(monkeypatch):
     ray = pytest.importorskip("ray")
+    # the suite's own one-thread settings (conftest.py) are not what the runs should rely on:
+    # Ray's workers start without them, so that a run's one product thread is Ray's doing
+    for variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+        monkeypatch.delenv(variable, raising=False)
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
              object_store_memory=100 * 2**20, configure_logging=False)
     yield ray

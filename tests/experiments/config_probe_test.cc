@@ -208,12 +208,13 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
     }
   }
   const fs::path scratch = test_dirs::Scratch("config_probe", "runs");
+  std::vector<double> cpu_seconds;
   const std::vector<std::string> distinct_verdicts = test_support::RunInChildren(
       distinct.size(),
       [&](size_t k) {
         return TrainCase(cases[distinct[k]], scratch / ("case_" + std::to_string(k)));
       },
-      {.seconds = 120, .address_space_gib = 8});
+      {.seconds = 120, .address_space_gib = 8}, &cpu_seconds);
   size_t trained = 0, errors = 0;
   for (size_t k = 0; k < accepted.size(); ++k) {
     const std::string& verdict = distinct_verdicts[trained_as[k]];
@@ -240,6 +241,18 @@ TEST(ConfigProbeTest, EveryKeyOfEveryAlgorithmTakesHostileValuesWithoutHarm) {
       "failed\n",
       cases.size(), Algorithms().size(), HostileValues().size(), seconds, refused, accepted.size(),
       distinct.size(), trained, errors, failed);
+  // where the probe's time goes: the CI budget is spent here
+  std::map<std::string, std::pair<int, double>> per_algorithm;  // trained configs, CPU seconds
+  for (size_t k = 0; k < distinct.size(); ++k) {
+    auto& [count, cpu] = per_algorithm[cases[distinct[k]].info->name];
+    ++count;
+    cpu += cpu_seconds[k];
+  }
+  std::printf("config probe: CPU time of the trained configs per algorithm:");
+  for (const auto& [name, count_cpu] : per_algorithm) {
+    std::printf(" %s %d in %.1f s;", name.c_str(), count_cpu.first, count_cpu.second);
+  }
+  std::printf("\n");
   RecordProperty("cases", static_cast<int>(cases.size()));
   EXPECT_EQ(failed, 0u) << failed << " cases failed (the first 60):" << failures;
   EXPECT_GT(cases.size(), 2000u);

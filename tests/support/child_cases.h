@@ -41,15 +41,19 @@ struct ChildLimits {
 // (at most 4). run returns the case's verdict text (at most 1,000 characters are kept).
 // The result of case i is its verdict, or, when the child did not give one, a text that
 // starts with "!": "!hang: ...", "!killed by signal ...", "!exited N without a verdict".
+// cpu_seconds, where given, receives each case's CPU time (user and system): where a probe's
+// time goes.
 inline std::vector<std::string> RunInChildren(size_t count,
                                               const std::function<std::string(size_t)>& run,
-                                              ChildLimits limits = {}) {
+                                              ChildLimits limits = {},
+                                              std::vector<double>* cpu_seconds = nullptr) {
   struct Child {
     size_t index = 0;
     int read_fd = -1;
   };
   const size_t parallel = std::clamp<size_t>(std::thread::hardware_concurrency(), 1, 4);
   std::vector<std::string> results(count);
+  if (cpu_seconds != nullptr) cpu_seconds->assign(count, 0.0);
   std::map<pid_t, Child> running;
   size_t next = 0;
   while (next < count || !running.empty()) {
@@ -76,10 +80,15 @@ inline std::vector<std::string> RunInChildren(size_t count,
       ++next;
     }
     int status = 0;
-    const pid_t done = waitpid(-1, &status, 0);
-    if (done <= 0) throw std::runtime_error("waitpid failed");
+    rusage usage{};
+    const pid_t done = wait4(-1, &status, 0, &usage);
+    if (done <= 0) throw std::runtime_error("wait4 failed");
     const auto it = running.find(done);
     if (it == running.end()) continue;  // not one of ours
+    if (cpu_seconds != nullptr) {
+      auto seconds = [](const timeval& t) { return t.tv_sec + t.tv_usec * 1e-6; };
+      (*cpu_seconds)[it->second.index] = seconds(usage.ru_utime) + seconds(usage.ru_stime);
+    }
     std::string text;
     char buffer[1024];
     for (ssize_t n; (n = read(it->second.read_fd, buffer, sizeof(buffer))) > 0;) {
