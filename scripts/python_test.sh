@@ -72,7 +72,7 @@ export MANYWORLDS_METAWORLD_PYTHON="$metaworld_venv/bin/python"
 
 # python/manyworlds is not on sys.path here: the tests import the installed package.
 # One pytest worker per core (pytest-xdist), a test file's tests on one worker (--dist
-# loadfile: the fidelity files record the official package's steps once per file).
+# loadfile: a module's fixtures are made once).
 workers=(-n "$(nproc)" --dist loadfile)
 [ "$(nproc)" -le 1 ] && workers=()
 # --durations: the slowest tests named in the log, to keep the suite within CI's budget

@@ -18,15 +18,10 @@ classes (manyworlds.benchmarks MT1 and ML1) report them, must equal v3's to 1e-6
 listed BOUND_EXCEPTIONS.
 """
 
-import json
-import os
-import subprocess
-
 import pytest
 
 import manyworlds.manipulation as mp
 
-from conftest import REPO
 
 FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place", "basketball",
             "door-open", "door-close", "drawer-open", "drawer-close", "button-press-topdown",
@@ -44,7 +39,6 @@ FAITHFUL = ["reach", "push", "pick-place", "sweep", "sweep-into", "shelf-place",
             "hammer", "stick-push", "stick-pull"]
 FIELDS = ["near_object", "grasp_success", "grasp_reward", "in_place_reward", "obj_to_target",
           "unscaled_reward"]
-RECORDER = REPO / "python" / "tests" / "fidelity" / "metaworld_record.py"
 
 # Observation bounds that differ from v3's on purpose: {(task, split): {index: reason}}, split
 # "mt1" (goal visible) or "ml1" (goal hidden). None at present: since 2026-11-27 every task's
@@ -55,18 +49,8 @@ BOUND_EXCEPTIONS = {}
 
 
 @pytest.fixture(scope="module")
-def records(tmp_path_factory):
-    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
-    if not python:
-        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
-    out = tmp_path_factory.mktemp("metaworld") / "records.json"
-    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL), "--goals", "3",
-                          "--steps", "150", "--seed", "7", "--out", str(out)],
-                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
-    data = json.loads(out.read_text())
-    assert data["reward_version"] == "v2"
-    return data["rows"]
+def records(metaworld_records):
+    return metaworld_records["rows"]["v2"]
 
 
 def close(ours, theirs):
@@ -118,16 +102,8 @@ def test_the_record_of_a_step_gives_the_step_reward():
 
 
 @pytest.fixture(scope="module")
-def v3_observation_spaces(tmp_path_factory):
-    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
-    if not python:
-        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
-    out = tmp_path_factory.mktemp("metaworld") / "spaces.json"
-    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL),
-                          "--observation-spaces", "--out", str(out)],
-                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
-    return json.loads(out.read_text())["spaces"]
+def v3_observation_spaces(metaworld_records):
+    return metaworld_records["spaces"]
 
 
 def bound_mismatches(ours, theirs):

@@ -7,9 +7,6 @@ v1_ fields); our v1 reward, success and info on the same records must agree to 1
 success exactly. FAITHFUL_V1 lists the tasks that have v1 (docs/fidelity.md lists the rest).
 """
 
-import json
-import os
-import subprocess
 
 import numpy as np
 import pytest
@@ -17,7 +14,7 @@ import pytest
 import manyworlds
 import manyworlds.manipulation as mp
 
-from test_metaworld_fidelity import FIELDS, RECORDER, close
+from test_metaworld_fidelity import FIELDS, close
 
 FAITHFUL_V1 = ["reach", "push", "pick-place", "door-open", "drawer-open", "drawer-close",
                "button-press-topdown", "peg-insert-side", "window-open", "window-close",
@@ -42,19 +39,8 @@ BONUS_NOT_REACHED = {"window-open", "plate-slide-side", "plate-slide-back", "dia
 
 
 @pytest.fixture(scope="module")
-def records_v1(tmp_path_factory):
-    python = os.environ.get("MANYWORLDS_METAWORLD_PYTHON")
-    if not python:
-        pytest.skip("MANYWORLDS_METAWORLD_PYTHON is not set (scripts/python_test.sh sets it)")
-    out = tmp_path_factory.mktemp("metaworld_v1") / "records.json"
-    run = subprocess.run([python, str(RECORDER), "--tasks", ",".join(FAITHFUL_V1), "--goals", "3",
-                          "--steps", "150", "--seed", "7", "--reward-version", "v1",
-                          "--out", str(out)],
-                         timeout=1800, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    assert run.returncode == 0, f"the recorder failed:\n{run.stderr[-3000:]}"
-    data = json.loads(out.read_text())
-    assert data["reward_version"] == "v1"
-    return data["rows"]
+def records_v1(metaworld_records):
+    return metaworld_records["rows"]["v1"]
 
 
 @pytest.mark.parametrize("task", FAITHFUL_V1)

@@ -6,15 +6,18 @@ for it); python/tests/test_metaworld_fidelity.py runs it and evaluates manyworld
 records (`manyworlds.sawyer_reward`). Only the official package is imported here.
 
     python metaworld_record.py --tasks reach,push --out records.json
-    python metaworld_record.py --tasks reach,push --observation-spaces --out spaces.json
+    python metaworld_record.py --tasks reach,push --reward-versions v2,v1 --observation-spaces \
+        --out records.json
 
 Per task: `--goals` of MT1's training goals (seed `--seed`); for each, one episode of uniform
 random actions and one of the package's scripted policy with Gaussian action noise (so that the
 arm reaches, grasps and moves the object), `--steps` steps each. A record is one step:
 {"state": {...}, "action": [...], "reward": r, "info": {...}}; the state keys are manyworlds'
-state record (SawyerState), taken from the official env as its reward code reads them.
+state record (SawyerState), taken from the official env as its reward code reads them. The
+output's "rows" holds them per reward version (`--reward-versions`, of v1 and v2: v3's envs
+built with that reward_function_version, stepped on the same actions).
 
-With `--observation-spaces`, per task the observation bounds instead (observation_spaces).
+With `--observation-spaces`, per task the observation bounds too ("spaces").
 Tasks are recorded by `--jobs` processes at once (default: every core); each task's records
 depend on its own arguments only, so the output is the same for any count.
 """
@@ -146,53 +149,64 @@ def policy_for(task):
     return getattr(policies, name)()
 
 
-def record_task(task, goals, steps, seed, reward_version):
+def record_task(task, goals, steps, seed, reward_versions, spaces=False):
+    """The task's rows per reward version ({version: rows}) and, with `spaces`, its observation
+    bounds. One MT1 benchmark serves them all (building it is most of a task's time); an env per
+    reward version steps in lockstep with the others, on the same actions."""
     import metaworld
 
     benchmark = metaworld.MT1(f"{task}-v3", seed=seed)
-    env = benchmark.train_classes[f"{task}-v3"](reward_function_version=reward_version)
+    env_class = benchmark.train_classes[f"{task}-v3"]
+    recorded = {"rows": {}}
+    if spaces:
+        recorded["spaces"] = observation_spaces(env_class(), benchmark.train_tasks[0])
+    envs = {version: env_class(reward_function_version=version) for version in reward_versions}
+    rows = recorded["rows"]
+    for version in reward_versions:
+        rows[version] = []
     policy = policy_for(task)
     rng = np.random.default_rng(seed)
-    rows = []
     for goal in benchmark.train_tasks[:goals]:
         for mode in ("random", "scripted"):
-            env.set_task(goal)
-            obs, _ = env.reset(seed=seed)
+            obs = {}
+            for version, env in envs.items():
+                env.set_task(goal)
+                obs[version], _ = env.reset(seed=seed)
+            lead = reward_versions[0]  # the reward does not steer the dynamics: obs agree
             for _ in range(steps):
                 if mode == "random":
                     action = rng.uniform(-1.0, 1.0, size=4)
                 else:
-                    action = np.clip(policy.get_action(obs) + rng.normal(0.0, 0.1, size=4), -1, 1)
+                    action = np.clip(policy.get_action(obs[lead]) + rng.normal(0.0, 0.1, size=4),
+                                     -1, 1)
                 action = action.astype(np.float32)
-                obs, reward, _, truncated, info = env.step(action)
-                rows.append({
-                    "task": task,
-                    "mode": mode,
-                    "state": state_record(env, obs, task),
-                    "action": [float(a) for a in action],
-                    "reward": float(reward),
-                    "info": {k: float(v) for k, v in info.items()},
-                })
+                truncated = False
+                for version, env in envs.items():
+                    obs[version], reward, _, truncated, info = env.step(action)
+                    rows[version].append({
+                        "task": task,
+                        "mode": mode,
+                        "state": state_record(env, obs[version], task),
+                        "action": [float(a) for a in action],
+                        "reward": float(reward),
+                        "info": {k: float(v) for k, v in info.items()},
+                    })
                 if truncated:
                     break
-    return rows
+    return recorded
 
 
-def observation_spaces(task):
-    """The task's bounds v3 gives its observation: `sawyer_observation_space`, the Box v3
-    clips every observation to, with the goal hidden ("ml1": as an env is built, and as ML1's
-    tasks keep it) and visible ("mt1": after `set_task` with one of MT1's tasks). (The env's
+def observation_spaces(env, task):
+    """The bounds v3 gives its observation: `sawyer_observation_space`, the Box v3 clips every
+    observation to, with the goal hidden ("ml1": as an env is built, and as ML1's tasks keep
+    it) and visible ("mt1": after `set_task` with one of MT1's tasks). (The env's
     `observation_space` attribute is the one computed at construction, so its goal bounds stay
-    zeros after `set_task` makes the goal visible.)"""
-    import metaworld
-
+    zeros after `set_task` makes the goal visible.) `env`: freshly built; `task`: an MT1 task."""
     box = lambda space: {"low": [float(x) for x in space.low],
                          "high": [float(x) for x in space.high]}
-    benchmark = metaworld.MT1(f"{task}-v3", seed=0)
-    env = benchmark.train_classes[f"{task}-v3"]()
     assert env._partially_observable
     hidden = box(env.sawyer_observation_space)
-    env.set_task(benchmark.train_tasks[0])
+    env.set_task(task)
     assert not env._partially_observable
     return {"ml1": hidden, "mt1": box(env.sawyer_observation_space)}
 
@@ -211,30 +225,31 @@ def main():
     parser.add_argument("--goals", type=int, default=3, help="MT1 training goals per task")
     parser.add_argument("--steps", type=int, default=150, help="steps per episode")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--reward-version", default="v2", choices=["v1", "v2"])
+    parser.add_argument("--reward-versions", default="v2",
+                        help="comma-separated, of v1 and v2: the rows of each (default v2)")
     parser.add_argument("--observation-spaces", action="store_true",
-                        help="record each task's observation bounds (MT1 and ML1) instead of steps")
+                        help="record each task's observation bounds (MT1 and ML1) too")
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="tasks recorded at once, each in its own process (default: every core)")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
     if args.jobs < 1:
         parser.error(f"--jobs must be at least 1, got {args.jobs}")
+    versions = args.reward_versions.split(",")
+    if not versions or any(v not in ("v1", "v2") for v in versions) or len(set(versions)) < len(versions):
+        parser.error(f"--reward-versions takes distinct v1 and v2, got '{args.reward_versions}'")
     import metaworld
 
     tasks = args.tasks.split(",")
-    if args.observation_spaces:
-        spaces = map_tasks(observation_spaces, tasks, args.jobs)
-        with open(args.out, "w") as f:
-            json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
-                       "spaces": dict(zip(tasks, spaces))}, f)
-        return
     record = functools.partial(record_task, goals=args.goals, steps=args.steps, seed=args.seed,
-                               reward_version=args.reward_version)
-    rows = [row for task_rows in map_tasks(record, tasks, args.jobs) for row in task_rows]
+                               reward_versions=versions, spaces=args.observation_spaces)
+    per_task = map_tasks(record, tasks, args.jobs)
+    out = {"metaworld_version": getattr(metaworld, "__version__", "unknown"),
+           "rows": {v: [row for task in per_task for row in task["rows"][v]] for v in versions}}
+    if args.observation_spaces:
+        out["spaces"] = {task: recorded["spaces"] for task, recorded in zip(tasks, per_task)}
     with open(args.out, "w") as f:
-        json.dump({"metaworld_version": getattr(metaworld, "__version__", "unknown"),
-                   "reward_version": args.reward_version, "rows": rows}, f)
+        json.dump(out, f)
 
 
 if __name__ == "__main__":
