@@ -8,6 +8,7 @@
 #include "manyworlds/core/error.h"
 #include "manyworlds/core/executor.h"
 #include "manyworlds/core/limits.h"
+#include "manyworlds/core/median.h"
 #include "manyworlds/core/memory.h"
 #include "manyworlds/core/rng.h"
 
@@ -86,12 +87,9 @@ ThroughputResult MeasureThroughput(
     result.samples.push_back(static_cast<double>(result.steps_per_repeat) /
                              std::max(elapsed.count(), 1e-12));
   }
-  std::vector<double> sorted = result.samples;
-  std::sort(sorted.begin(), sorted.end());
-  const size_t m = sorted.size();
-  result.steps_per_s = m % 2 ? sorted[m / 2] : 0.5 * (sorted[m / 2 - 1] + sorted[m / 2]);
-  result.min_steps_per_s = sorted.front();
-  result.max_steps_per_s = sorted.back();
+  result.steps_per_s = Median(result.samples);
+  result.min_steps_per_s = *std::min_element(result.samples.begin(), result.samples.end());
+  result.max_steps_per_s = *std::max_element(result.samples.begin(), result.samples.end());
   result.ns_per_step = 1e9 / result.steps_per_s;
   return result;
 }

@@ -14,7 +14,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "manyworlds/agents/deepmdp/deepmdp.h"
 #include "manyworlds/agents/distral/distral.h"
+#include "manyworlds/agents/hipbmdp/hipbmdp.h"
 #include "manyworlds/agents/maml/maml.h"
 #include "manyworlds/agents/pearl/pearl.h"
 #include "manyworlds/agents/ppo/ppo.h"
@@ -22,11 +24,10 @@
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/agents/sac/sac_timing.h"
 #include "manyworlds/agents/sac_ae/sac_ae.h"
-#include "manyworlds/agents/deepmdp/deepmdp.h"
-#include "manyworlds/agents/hipbmdp/hipbmdp.h"
 #include "manyworlds/agents/te_ppo/te_ppo.h"
 #include "manyworlds/agents/trpo/trpo.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/median.h"
 #include "manyworlds/core/memory.h"
 #include "manyworlds/nn/threads.h"
 
@@ -51,11 +52,6 @@ void ApplyThreads(const AgentBenchSizes& args) {
   if (args.torch_threads > 0 || args.blas_threads > 0) {
     nn::SetThreads(args.torch_threads > 0 ? args.torch_threads : 1, args.blas_threads);
   }
-}
-
-double Median(std::vector<double> values) {
-  std::sort(values.begin(), values.end());
-  return values[values.size() / 2];
 }
 
 // Calls per second of `repeats` timed runs of `updates` calls each, after

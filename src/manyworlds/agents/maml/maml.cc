@@ -18,10 +18,10 @@ namespace manyworlds::agents {
 namespace {
 
 // Names of this actor's ActorState entries.
-constexpr char kHistory[] = "history";
+constexpr char kMamlHistory[] = "history";
 constexpr char kAdapted[] = "adapted";
 
-constexpr int64_t kCheckpointCode = 0x6d616d6c;  // "maml"
+constexpr int64_t kMamlCheckpointCode = 0x6d616d6c;  // "maml"
 constexpr uint64_t kValueSeedSalt = 0x76616c7565;  // "value"
 
 std::vector<torch::Tensor> Grad(const torch::Tensor& y, at::ArrayRef<torch::Tensor> params,
@@ -228,12 +228,12 @@ void MamlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState&
   if (scope == ResetScope::kEpisode) return;
   const torch::Tensor mask = envs.to(torch::kBool);
   if (mask.all().item<bool>()) {
-    state.lists[kHistory].clear();
+    state.lists[kMamlHistory].clear();
     state.lists[kAdapted].clear();
     return;
   }
   // forget the masked rows only: their records stop counting, their policy is theta again
-  ForgetHistoryRows(state.lists[kHistory], mask);
+  ForgetHistoryRows(state.lists[kMamlHistory], mask);
   for (size_t j = 0; j < state.lists[kAdapted].size(); ++j) {
     std::vector<int64_t> shape(state.lists[kAdapted][j].dim(), 1);
     shape[0] = mask.size(0);
@@ -246,7 +246,7 @@ void MamlLearner::Observe(const StepOutcome& o, ActorState& state) {
   c10::InferenceMode inference;
   const int64_t n = o.obs.size(0);
   const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
-  state.lists[kHistory].push_back(
+  state.lists[kMamlHistory].push_back(
       torch::cat({o.obs, o.action.to(torch::kFloat32), o.reward.reshape({n, 1}),
                   o.ended.reshape({n, 1}), valid.reshape({n, 1})},
                  1)
@@ -254,12 +254,12 @@ void MamlLearner::Observe(const StepOutcome& o, ActorState& state) {
 }
 
 void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
-  if (state.lists[kHistory].empty()) return;
+  if (state.lists[kMamlHistory].empty()) return;
   c10::InferenceMode off(false);
   torch::AutoGradMode grad(true);
   // (T, N, D) rows [obs, action, reward, ended, valid]; inference tensors
   // become normal ones by the clone
-  const torch::Tensor h = torch::stack(state.lists[kHistory]).clone();
+  const torch::Tensor h = torch::stack(state.lists[kMamlHistory]).clone();
   const int64_t d_obs = spaces_.obs_dim, d_act = spaces_.action_dim;
   const int64_t n = h.size(1);
   const std::vector<torch::Tensor>& theta = policy_->params();
@@ -298,7 +298,7 @@ void MamlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
   }
   state.lists[kAdapted].clear();
   for (auto& r : rows) state.lists[kAdapted].push_back(torch::stack(r));
-  state.lists[kHistory].clear();
+  state.lists[kMamlHistory].clear();
 }
 
 bool MamlLearner::Adapted(int64_t i, const MamlEpisodes& pre, const torch::Tensor& ended) const {
@@ -436,7 +436,7 @@ Metrics MamlLearner::Update(rl::RolloutBuffer& rollout) {
 }
 
 void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
-  WriteSignature(archive, kCheckpointCode,
+  WriteSignature(archive, kMamlCheckpointCode,
                  {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions});
   WriteModule(archive, "policy", *policy_);
   WriteOptimizer(archive, "outer_optimizer", outer_optimizer_);
@@ -444,7 +444,7 @@ void MamlLearner::Save(torch::serialize::OutputArchive& archive) const {
 }
 
 void MamlLearner::Load(torch::serialize::InputArchive& archive) {
-  if (!HasSignature(archive, kCheckpointCode,
+  if (!HasSignature(archive, kMamlCheckpointCode,
                     {spaces_.obs_dim, spaces_.action_dim, spaces_.num_actions})) {
     throw Error("maml checkpoint: not a checkpoint of MAML with these sizes");
   }

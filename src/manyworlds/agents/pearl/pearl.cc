@@ -16,9 +16,9 @@ namespace {
 // Names of this actor's ActorState entries.
 constexpr char kLatent[] = "latent";
 constexpr char kContext[] = "context";
-constexpr char kHistory[] = "history";
+constexpr char kPearlHistory[] = "history";
 
-constexpr int64_t kCheckpointCode = 0x706561726c;  // "pearl"
+constexpr int64_t kPearlCheckpointCode = 0x706561726c;  // "pearl"
 // Seeds the generator every actor state draws from unless a protocol sets its own.
 constexpr uint64_t kActorStream = 0x6163746f72;  // "actor"
 
@@ -332,19 +332,20 @@ void PearlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState
   state.tensors[kContext] =
       WhereRows(mask, torch::cat({prior.mean, prior.var}, 1), state.tensors[kContext]);
   if (mask.all().item<bool>()) {
-    state.lists[kHistory].clear();
+    state.lists[kPearlHistory].clear();
     return;
   }
-  ForgetHistoryRows(state.lists[kHistory], mask);
+  ForgetHistoryRows(state.lists[kPearlHistory], mask);
 }
 
 void PearlLearner::Observe(const StepOutcome& o, ActorState& state) {
   c10::InferenceMode inference;
   const int64_t n = o.obs.size(0);
   const torch::Tensor valid = o.valid.defined() ? o.valid : torch::ones({n});
-  state.lists[kHistory].push_back(torch::cat({o.obs.to(torch::kFloat32), o.action.reshape({n, -1}),
-                                              o.reward.reshape({n, 1}), valid.reshape({n, 1})},
-                                             1));
+  state.lists[kPearlHistory].push_back(
+      torch::cat({o.obs.to(torch::kFloat32), o.action.reshape({n, -1}), o.reward.reshape({n, 1}),
+                  valid.reshape({n, 1})},
+                 1));
   // a new episode draws a new z from the current belief
   const torch::Tensor ended = (o.ended > 0.5).logical_and(valid > 0.5);
   state.tensors[kLatent] = WhereRows(ended, torch::full_like(state.tensors[kLatent], std::nan("")),
@@ -356,8 +357,8 @@ void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
   const torch::Tensor mask = envs.to(torch::kBool);
   const int64_t n = mask.size(0), d = context_dim();
   LatentBelief posterior = Prior(n);
-  if (!state.lists[kHistory].empty()) {
-    const torch::Tensor rows = torch::stack(state.lists[kHistory], 1);  // (n, steps, d + 1)
+  if (!state.lists[kPearlHistory].empty()) {
+    const torch::Tensor rows = torch::stack(state.lists[kPearlHistory], 1);  // (n, steps, d + 1)
     posterior = Posterior(rows.narrow(2, 0, d), rows.select(2, d));
   }
   state.tensors[kContext] =
@@ -380,15 +381,15 @@ void PearlLearner::TransferNetworks(Archive& archive, Self& self) {
 }
 
 void PearlLearner::Save(torch::serialize::OutputArchive& archive) const {
-  WriteSignature(archive, kCheckpointCode,
-                 {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim,
-                  config_.encoder_hidden_dim});
+  WriteSignature(
+      archive, kPearlCheckpointCode,
+      {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim, config_.encoder_hidden_dim});
   TransferNetworks(archive, *this);
   WriteProgress(archive, num_updates_, generator_);
 }
 
 void PearlLearner::Load(torch::serialize::InputArchive& archive) {
-  if (!HasSignature(archive, kCheckpointCode,
+  if (!HasSignature(archive, kPearlCheckpointCode,
                     {obs_dim_, action_dim_, config_.latent_dim, config_.hidden_dim,
                      config_.encoder_hidden_dim})) {
     throw Error("pearl checkpoint: not a checkpoint of PEARL with these sizes");

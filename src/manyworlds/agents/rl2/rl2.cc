@@ -19,7 +19,7 @@ constexpr char kHidden[] = "hidden";
 constexpr char kContext[] = "context";
 
 // Marks an RL2 checkpoint (PPO/TRPO write their own algorithm code).
-constexpr int64_t kCheckpointCode = 0x726c32;  // "rl2"
+constexpr int64_t kRl2CheckpointCode = 0x726c32;  // "rl2"
 
 }  // namespace
 
@@ -213,13 +213,13 @@ void Rl2Learner::TransferNetworks(Archive& archive, Self& self) {
 }
 
 void Rl2Learner::Save(torch::serialize::OutputArchive& archive) const {
-  WriteSignature(archive, kCheckpointCode, {spaces_.obs_dim, context_dim_, config_.hidden_dim});
+  WriteSignature(archive, kRl2CheckpointCode, {spaces_.obs_dim, context_dim_, config_.hidden_dim});
   TransferNetworks(archive, *this);
   WriteProgress(archive, num_updates_, generator_);
 }
 
 void Rl2Learner::Load(torch::serialize::InputArchive& archive) {
-  if (!HasSignature(archive, kCheckpointCode,
+  if (!HasSignature(archive, kRl2CheckpointCode,
                     {spaces_.obs_dim, context_dim_, config_.hidden_dim})) {
     throw Error("rl2 checkpoint: not a checkpoint of RL2 with these sizes");
   }

@@ -7,6 +7,7 @@
 
 #include "manyworlds/agents/sac/sac.h"
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/median.h"
 
 namespace manyworlds::agents {
 
@@ -50,10 +51,7 @@ SacTimingResult MeasureSacUpdates(const SacConfig& config, int obs_dim, int acti
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - start;
     result.samples.push_back(updates / elapsed.count());
   }
-  std::vector<double> sorted = result.samples;
-  std::sort(sorted.begin(), sorted.end());
-  const size_t n = sorted.size();
-  result.updates_per_s = n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  result.updates_per_s = Median(result.samples);
   return result;
 }
 

@@ -15,10 +15,6 @@ namespace {
 
 constexpr int64_t kMaxEvalEnvs = 64;
 
-nlohmann::json OptionalJson(const std::optional<double>& v) {
-  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
 }  // namespace
 
 nlohmann::json EvalResult::ToJson() const {

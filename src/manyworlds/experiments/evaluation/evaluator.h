@@ -36,6 +36,11 @@ class Actor;
 
 namespace manyworlds::experiments {
 
+// A rate that envs without `success` do not have, as results write it: a number or null.
+inline nlohmann::json OptionalJson(const std::optional<double>& value) {
+  return value ? nlohmann::json(*value) : nlohmann::json(nullptr);
+}
+
 // One evaluation episode.
 struct EpisodeResult {
   double episode_return = 0.0;

@@ -17,10 +17,6 @@ namespace {
 
 constexpr int64_t kMaxEnvs = 64;
 
-nlohmann::json OptionalJson(const std::optional<double>& v) {
-  return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-}
-
 // Rows where `frozen` is true keep their values from `before` (a waiting
 // env's actor state does not move). Per-env tensors have the env first.
 torch::Tensor KeepRows(const torch::Tensor& before, const torch::Tensor& after,

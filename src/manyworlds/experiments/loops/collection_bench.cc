@@ -8,6 +8,7 @@
 #include <random>
 
 #include "manyworlds/core/error.h"
+#include "manyworlds/core/median.h"
 #include "manyworlds/core/rng.h"
 #include "manyworlds/envs/all.h"
 #include "manyworlds/experiments/algorithm.h"
@@ -15,12 +16,6 @@
 
 namespace manyworlds::experiments {
 namespace {
-
-double Median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 }  // namespace
 
