@@ -16,7 +16,7 @@ namespace manyworlds::agents {
 namespace {
 
 template <typename T>
-void Require(bool ok, const char* field, const std::string& allowed, T value) {
+void RequireDistral(bool ok, const char* field, const std::string& allowed, T value) {
   if (ok) return;
   std::ostringstream msg;
   msg << "DistralConfig." << field << " must be " << allowed << ", got " << value;
@@ -45,11 +45,11 @@ Batch TaskRows(const Batch& batch, const torch::Tensor& rows) {
 }  // namespace
 
 void DistralConfig::Validate() const {
-  Require(std::isfinite(distral_alpha) && distral_alpha >= 0, "distral_alpha",
-          "finite and >= 0", distral_alpha);
-  Require(FinitePositive(distilled_lr), "distilled_lr", "finite and > 0", distilled_lr);
-  Require(act_with == "task" || act_with == "distilled", "act_with",
-          "'task' or 'distilled'", "'" + act_with + "'");
+  RequireDistral(std::isfinite(distral_alpha) && distral_alpha >= 0, "distral_alpha",
+                 "finite and >= 0", distral_alpha);
+  RequireDistral(FinitePositive(distilled_lr), "distilled_lr", "finite and > 0", distilled_lr);
+  RequireDistral(act_with == "task" || act_with == "distilled", "act_with", "'task' or 'distilled'",
+                 "'" + act_with + "'");
   try {
     TaskAgentConfig(0).Validate();
   } catch (const ConfigError& e) {

@@ -14,8 +14,8 @@ namespace manyworlds::agents {
 namespace {
 
 // Names of this actor's ActorState entries.
-constexpr char kLatent[] = "latent";
-constexpr char kContext[] = "context";
+constexpr char kPearlLatent[] = "latent";
+constexpr char kPearlContext[] = "context";
 constexpr char kPearlHistory[] = "history";
 
 constexpr int64_t kPearlCheckpointCode = 0x706561726c;  // "pearl"
@@ -290,47 +290,50 @@ ActorState PearlLearner::Initial(int64_t num_envs) {
   c10::InferenceMode inference;
   ActorState state;
   const LatentBelief prior = Prior(num_envs);
-  state.tensors[kContext] = torch::cat({prior.mean, prior.var}, 1);
-  state.tensors[kLatent] = torch::full({num_envs, config_.latent_dim}, std::nan(""));
+  state.tensors[kPearlContext] = torch::cat({prior.mean, prior.var}, 1);
+  state.tensors[kPearlLatent] = torch::full({num_envs, config_.latent_dim}, std::nan(""));
   state.generator = rl::MakeGenerator(config_.seed ^ kActorStream);
   return state;
 }
 
 ActOutput PearlLearner::Act(const torch::Tensor& obs, const torch::Tensor& /*task_index*/,
                             ActorState& state, ActMode mode) {
-  if (!state.tensors[kLatent].defined() || state.tensors[kLatent].size(0) != obs.size(0)) {
-    throw Error(
-        "pearl: the actor state has " +
-        std::to_string(state.tensors[kLatent].defined() ? state.tensors[kLatent].size(0) : 0) +
-        " envs but obs has " + std::to_string(obs.size(0)) + " rows; call Initial");
+  if (!state.tensors[kPearlLatent].defined() ||
+      state.tensors[kPearlLatent].size(0) != obs.size(0)) {
+    throw Error("pearl: the actor state has " +
+                std::to_string(state.tensors[kPearlLatent].defined()
+                                   ? state.tensors[kPearlLatent].size(0)
+                                   : 0) +
+                " envs but obs has " + std::to_string(obs.size(0)) + " rows; call Initial");
   }
   at::Generator& generator = SamplingGenerator(state, generator_);
   {
     c10::InferenceMode inference;
-    const torch::Tensor redraw = state.tensors[kLatent].isnan().any(1);
+    const torch::Tensor redraw = state.tensors[kPearlLatent].isnan().any(1);
     if (redraw.any().item<bool>()) {
       const int64_t z = config_.latent_dim;
-      const LatentBelief belief{state.tensors[kContext].narrow(1, 0, z),
-                                state.tensors[kContext].narrow(1, z, z)};
-      state.tensors[kLatent] =
-          WhereRows(redraw, SampleLatent(belief, generator), state.tensors[kLatent]);
+      const LatentBelief belief{state.tensors[kPearlContext].narrow(1, 0, z),
+                                state.tensors[kPearlContext].narrow(1, z, z)};
+      state.tensors[kPearlLatent] =
+          WhereRows(redraw, SampleLatent(belief, generator), state.tensors[kPearlLatent]);
     }
   }
   ActOutput out;
   out.action =
-      ActWithLatent(obs, state.tensors[kLatent], mode == ActMode::kDeterministic, generator);
+      ActWithLatent(obs, state.tensors[kPearlLatent], mode == ActMode::kDeterministic, generator);
   return out;
 }
 
 void PearlLearner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& state) {
   c10::InferenceMode inference;
   const torch::Tensor mask = envs.to(torch::kBool);
-  state.tensors[kLatent] = WhereRows(mask, torch::full_like(state.tensors[kLatent], std::nan("")),
-                                     state.tensors[kLatent]);
+  state.tensors[kPearlLatent] =
+      WhereRows(mask, torch::full_like(state.tensors[kPearlLatent], std::nan("")),
+                state.tensors[kPearlLatent]);
   if (scope == ResetScope::kEpisode) return;
   const LatentBelief prior = Prior(mask.size(0));
-  state.tensors[kContext] =
-      WhereRows(mask, torch::cat({prior.mean, prior.var}, 1), state.tensors[kContext]);
+  state.tensors[kPearlContext] =
+      WhereRows(mask, torch::cat({prior.mean, prior.var}, 1), state.tensors[kPearlContext]);
   if (mask.all().item<bool>()) {
     state.lists[kPearlHistory].clear();
     return;
@@ -348,8 +351,9 @@ void PearlLearner::Observe(const StepOutcome& o, ActorState& state) {
                  1));
   // a new episode draws a new z from the current belief
   const torch::Tensor ended = (o.ended > 0.5).logical_and(valid > 0.5);
-  state.tensors[kLatent] = WhereRows(ended, torch::full_like(state.tensors[kLatent], std::nan("")),
-                                     state.tensors[kLatent]);
+  state.tensors[kPearlLatent] =
+      WhereRows(ended, torch::full_like(state.tensors[kPearlLatent], std::nan("")),
+                state.tensors[kPearlLatent]);
 }
 
 void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
@@ -361,10 +365,11 @@ void PearlLearner::Adapt(const torch::Tensor& envs, ActorState& state) {
     const torch::Tensor rows = torch::stack(state.lists[kPearlHistory], 1);  // (n, steps, d + 1)
     posterior = Posterior(rows.narrow(2, 0, d), rows.select(2, d));
   }
-  state.tensors[kContext] =
-      WhereRows(mask, torch::cat({posterior.mean, posterior.var}, 1), state.tensors[kContext]);
-  state.tensors[kLatent] = WhereRows(mask, torch::full_like(state.tensors[kLatent], std::nan("")),
-                                     state.tensors[kLatent]);
+  state.tensors[kPearlContext] =
+      WhereRows(mask, torch::cat({posterior.mean, posterior.var}, 1), state.tensors[kPearlContext]);
+  state.tensors[kPearlLatent] =
+      WhereRows(mask, torch::full_like(state.tensors[kPearlLatent], std::nan("")),
+                state.tensors[kPearlLatent]);
 }
 
 template <typename Archive, typename Self>

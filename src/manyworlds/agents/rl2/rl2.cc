@@ -16,7 +16,7 @@ namespace {
 
 // Names of this actor's ActorState entries.
 constexpr char kHidden[] = "hidden";
-constexpr char kContext[] = "context";
+constexpr char kRl2Context[] = "context";
 
 // Marks an RL2 checkpoint (PPO/TRPO write their own algorithm code).
 constexpr int64_t kRl2CheckpointCode = 0x726c32;  // "rl2"
@@ -83,7 +83,7 @@ torch::Tensor Rl2Learner::Context(const torch::Tensor& actions, const torch::Ten
 ActorState Rl2Learner::Initial(int64_t num_envs) {
   ActorState state;
   state.tensors[kHidden] = torch::zeros({num_envs, config_.hidden_dim});
-  state.tensors[kContext] = torch::zeros({num_envs, context_dim_});
+  state.tensors[kRl2Context] = torch::zeros({num_envs, context_dim_});
   return state;
 }
 
@@ -95,7 +95,7 @@ ActOutput Rl2Learner::Act(const torch::Tensor& obs, const torch::Tensor&, ActorS
     throw Error("rl2 actor: expected obs (N, " + std::to_string(spaces_.obs_dim) + ")");
   }
   RestartUnlessSized(*this, state, kHidden, n);
-  const torch::Tensor x = torch::cat({obs, state.tensors[kContext]}, -1).unsqueeze(0);
+  const torch::Tensor x = torch::cat({obs, state.tensors[kRl2Context]}, -1).unsqueeze(0);
   auto [out, h] = gru_->Forward(x, state.tensors[kHidden]);
   state.tensors[kHidden] = h;
   const nn::ActionDistribution d = head_->Forward(out[0]);
@@ -112,12 +112,12 @@ void Rl2Learner::Reset(const torch::Tensor& envs, ResetScope scope, ActorState& 
   if (RestartUnlessSized(*this, state, kHidden, envs.size(0))) return;
   const torch::Tensor keep = envs.to(torch::kBool).logical_not().unsqueeze(1).to(torch::kFloat32);
   state.tensors[kHidden] = state.tensors[kHidden] * keep;
-  state.tensors[kContext] = state.tensors[kContext] * keep;
+  state.tensors[kRl2Context] = state.tensors[kRl2Context] * keep;
 }
 
 void Rl2Learner::Observe(const StepOutcome& outcome, ActorState& state) {
   c10::InferenceMode inference;
-  state.tensors[kContext] = Context(outcome.action, outcome.reward, outcome.ended);
+  state.tensors[kRl2Context] = Context(outcome.action, outcome.reward, outcome.ended);
 }
 
 nn::ActionDistribution Rl2Learner::Unroll(const torch::Tensor& x) const {

@@ -16,7 +16,7 @@ namespace manyworlds::agents {
 namespace {
 
 // Names of this actor's ActorState entries.
-constexpr char kLatent[] = "latent";
+constexpr char kTePpoLatent[] = "latent";
 
 torch::Tensor SoftplusIf(bool on, const torch::Tensor& x) { return on ? torch::softplus(x) : x; }
 
@@ -138,17 +138,17 @@ torch::Tensor TePpoLearner::TaskLatentMeans() const {
 ActorState TePpoLearner::Initial(int64_t num_envs) {
   c10::InferenceMode inference;
   ActorState state;
-  state.tensors[kLatent] = torch::full({num_envs, config_.latent_dim},
-                                       std::numeric_limits<float>::quiet_NaN(), torch::kFloat32);
+  state.tensors[kTePpoLatent] = torch::full(
+      {num_envs, config_.latent_dim}, std::numeric_limits<float>::quiet_NaN(), torch::kFloat32);
   return state;
 }
 
 void TePpoLearner::Reset(const torch::Tensor& envs, ResetScope, ActorState& state) {
   c10::InferenceMode inference;
-  if (RestartUnlessSized(*this, state, kLatent, envs.size(0))) return;
-  state.tensors[kLatent] = torch::where(envs.to(torch::kBool).unsqueeze(1),
-                                        torch::full({}, std::numeric_limits<float>::quiet_NaN()),
-                                        state.tensors[kLatent]);
+  if (RestartUnlessSized(*this, state, kTePpoLatent, envs.size(0))) return;
+  state.tensors[kTePpoLatent] = torch::where(
+      envs.to(torch::kBool).unsqueeze(1), torch::full({}, std::numeric_limits<float>::quiet_NaN()),
+      state.tensors[kTePpoLatent]);
 }
 
 ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_index,
@@ -164,20 +164,21 @@ ActOutput TePpoLearner::Act(const torch::Tensor& obs, const torch::Tensor& task_
   if (mode == ActMode::kDeterministic) {
     latent = encoder_->Forward(OneHot(task_index)).mean;
   } else {
-    RestartUnlessSized(*this, state, kLatent, n);
-    const torch::Tensor fresh = state.tensors[kLatent].select(1, 0).isnan();
+    RestartUnlessSized(*this, state, kTePpoLatent, n);
+    const torch::Tensor fresh = state.tensors[kTePpoLatent].select(1, 0).isnan();
     if (fresh.any().item<bool>()) {  // the encoder runs only where episodes begin
       const torch::Tensor drawn =
           encoder_->Forward(OneHot(task_index)).Sample(SamplingGenerator(state, generator_));
-      state.tensors[kLatent] = torch::where(fresh.unsqueeze(1), drawn, state.tensors[kLatent]);
+      state.tensors[kTePpoLatent] =
+          torch::where(fresh.unsqueeze(1), drawn, state.tensors[kTePpoLatent]);
     }
-    latent = state.tensors[kLatent];
+    latent = state.tensors[kTePpoLatent];
   }
   const nn::ActionDistribution d = policy_->Forward(torch::cat({obs, latent}, -1));
   ActOutput out;
   out.action = mode == ActMode::kSample ? d.Sample(SamplingGenerator(state, generator_)) : d.Mode();
   out.log_prob = d.LogProb(out.action);
-  out.latent = latent;  // state updates replace state.tensors[kLatent], never write into it
+  out.latent = latent;  // state updates replace state.tensors[kTePpoLatent], never write into it
   return out;
 }
 

@@ -35,7 +35,7 @@ bool IsMetaMethod(const std::string& method) {
   return method == "maml" || method == "pearl" || method == "rl2";
 }
 
-std::string Join(const std::vector<std::string>& names) {
+std::string JoinNames(const std::vector<std::string>& names) {
   std::string text;
   for (const auto& n : names) text += (text.empty() ? "" : ", ") + n;
   return text;
@@ -192,7 +192,7 @@ void ValidateStudyOptions(const StudyOptions& o) {
     const auto& all = StudyMethods();
     if (std::find(all.begin(), all.end(), m) == all.end()) {
       throw ConfigError("--methods: unknown method '" + m + "'" + SuggestNearest(m, all) +
-                        "; the methods are " + Join(all));
+                        "; the methods are " + JoinNames(all));
     }
   }
   if (o.out_dir.empty()) throw ConfigError("--out must not be empty");
